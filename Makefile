@@ -1,0 +1,138 @@
+# Build, test, demo and benchmark entry points of the body scan workspace.
+#
+# The repository root is the catkin source space (CMakeLists.txt -> catkin's toplevel.cmake);
+# everything is built with plain cmake into build/ (devel space: build/devel).
+#
+# Gotcha: `python3` on PATH may be a pyenv shim without catkin_pkg. catkin, rostest and our
+# scripts need Debian's /usr/bin/python3, so every recipe runs with /usr/bin first in PATH and
+# cmake gets -DPYTHON_EXECUTABLE=/usr/bin/python3.
+#
+#   make deps    install missing Debian packages (no-op when all are installed)
+#   make build   configure + build all packages into build/
+#   make test    build + run every gtest/rostest; last line: "N passed, N failed[, N skipped]"
+#   make demo    build + scripts/demo.sh
+#   make bench   build + run every build/devel/lib/*/bench_* (JSON into build/bench/)
+#   make format  clang-format -i every C++ file of the packages
+#   make clean   remove build/
+
+SHELL := /bin/bash
+export PATH := /usr/bin:$(PATH)
+MAKEFLAGS += --no-print-directory
+
+PY        := /usr/bin/python3
+BUILD_DIR := $(CURDIR)/build
+JOBS      ?= 2
+CMAKE_BUILD_TYPE ?= Release
+
+# Debian packages the whole suite needs to build, test, run the demo and the benchmarks:
+#   catkin ... ros-core, rosbash, ros-message-generation: catkin, roscpp, message generation,
+#       nodelets, pluginlib, rostest/roslaunch (the test harness) and rosrun/roscd
+#   rviz: the demo's visualisation (launch/, rviz/)
+#   libcv-bridge-dev ... python3-rosbag: image, tf2 and bag APIs used by the nodes and demo
+#   libopencv-dev, libopencv-contrib-dev: OpenCV (contrib = structured_light, the reference
+#       decoder of the benchmarks); opencv-doc: its sample images
+#   libeigen3-dev, libyaml-cpp-dev: maths and calibration files
+#   libgtest-dev, libbenchmark-dev: unit tests (catkin_add_gtest) and Google Benchmark
+#   xvfb, xauth: headless X for anything that needs a display; imagemagick: demo images
+DEB_PACKAGES := \
+	catkin ros-base-dev ros-message-generation libnodeletlib-dev libnodeletlib-tools \
+	pluginlib-dev librostest-dev python3-rostest python3-roslaunch ros-core rosbash rviz \
+	libcv-bridge-dev libimage-transport-dev libsensor-msgs-dev libtf2-ros-dev \
+	librosbag-dev python3-rosbag \
+	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev \
+	libgtest-dev libbenchmark-dev \
+	xvfb xauth imagemagick opencv-doc
+
+# Only `make format` needs these.
+FORMAT_PACKAGES := clang-format
+
+# Catkin packages = top-level directories with a package.xml.
+PACKAGES := $(patsubst %/package.xml,%,$(wildcard */package.xml))
+
+# $(call install_missing,PACKAGES): apt-get install those of PACKAGES that dpkg does not
+# report as installed; prints nothing and calls nothing when all are there.
+define install_missing
+	@missing=""; \
+	for p in $(1); do \
+	  dpkg-query -W -f='$${db:Status-Status}\n' "$$p" 2>/dev/null | grep -qx installed \
+	    || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  sudo=""; [ "$$(id -u)" = 0 ] || sudo=sudo; \
+	  echo "Installing missing Debian packages:$$missing"; \
+	  export DEBIAN_FRONTEND=noninteractive; \
+	  $$sudo -E apt-get update \
+	    && $$sudo -E apt-get install -y --no-install-recommends $$missing; \
+	fi
+endef
+
+.PHONY: deps build test demo bench format clean
+
+# deps: install the Debian packages in DEB_PACKAGES that are missing (idempotent).
+deps:
+	$(call install_missing,$(DEB_PACKAGES))
+
+# build: configure the catkin workspace with cmake into build/ and build everything.
+# build/CATKIN_IGNORE keeps catkin from looking for packages inside build/.
+build: deps
+	@mkdir -p $(BUILD_DIR) && touch $(BUILD_DIR)/CATKIN_IGNORE
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(CMAKE_BUILD_TYPE) \
+	  -DPYTHON_EXECUTABLE=$(PY) -DCATKIN_DEVEL_PREFIX=$(BUILD_DIR)/devel \
+	  -DCATKIN_ENABLE_TESTING=ON
+	cmake --build $(BUILD_DIR) -j$(JOBS)
+
+# test: build the test binaries, run all gtests and rostests through catkin's run_tests
+# (JUnit XML into build/test_results), then summarise with scripts/test_summary.py, whose
+# "N passed, N failed[, N skipped]" line is the last line of the target's standard output.
+# ROS_HOME/ROS_LOG_DIR live in build/ros_home and the master port is a fresh free one.
+# Even when the build fails, the summary ("0 passed, 0 failed") is printed and written.
+test: deps
+	@rm -rf $(BUILD_DIR)/test_results $(BUILD_DIR)/test_summary.txt
+	@if ! { $(MAKE) build && $(MAKE) -C $(BUILD_DIR) -j$(JOBS) tests; }; then \
+	  echo "== BUILD FAILED: no tests were run"; \
+	  $(PY) scripts/test_summary.py $(BUILD_DIR)/test_results \
+	    --write $(BUILD_DIR)/test_summary.txt; \
+	  exit 1; \
+	fi
+	@port=$$($(PY) -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'); \
+	export ROS_MASTER_URI=http://localhost:$$port; \
+	export ROS_HOME=$(BUILD_DIR)/ros_home ROS_LOG_DIR=$(BUILD_DIR)/ros_home/log; \
+	mkdir -p "$$ROS_LOG_DIR"; \
+	echo "== running tests (ROS_MASTER_URI=$$ROS_MASTER_URI, ROS_HOME=$$ROS_HOME)"; \
+	rt=0; $(MAKE) -C $(BUILD_DIR) run_tests || rt=$$?; \
+	if [ $$rt -ne 0 ]; then echo "== WARNING: 'make run_tests' exited with status $$rt"; fi; \
+	echo "== test summary (from build/test_results/**/*.xml)"; \
+	st=0; $(PY) scripts/test_summary.py $(BUILD_DIR)/test_results \
+	  --write $(BUILD_DIR)/test_summary.txt || st=$$?; \
+	[ $$st -eq 0 ] && [ $$rt -eq 0 ]
+
+# demo: build, then run the end-to-end demo script.
+demo: build
+	bash scripts/demo.sh
+
+# bench: build, then run every Google Benchmark executable build/devel/lib/<pkg>/bench_*,
+# printing its console table and saving JSON to build/bench/<name>.json, then the ratios of
+# each peer to our implementation (scripts/bench_report.py -> build/bench/report.txt).
+bench: build
+	@mkdir -p $(BUILD_DIR)/bench; \
+	found=0; \
+	for exe in $(BUILD_DIR)/devel/lib/*/bench_*; do \
+	  [ -f "$$exe" ] && [ -x "$$exe" ] || continue; \
+	  found=1; name=$$(basename "$$exe"); \
+	  echo "== $$name"; \
+	  "$$exe" --benchmark_out=$(BUILD_DIR)/bench/$$name.json --benchmark_out_format=json \
+	    || exit 1; \
+	done; \
+	if [ $$found -eq 0 ]; then echo "no bench_* executables under build/devel/lib/*/"; exit 1; fi; \
+	echo "== ratios against ours (also in build/bench/report.txt)"; \
+	$(PY) scripts/bench_report.py $(BUILD_DIR)/bench/bench_*.json
+
+# format: clang-format -i (style: .clang-format) every .cpp/.h/.hpp of the catkin packages.
+format:
+	$(call install_missing,$(FORMAT_PACKAGES))
+	@files=$$(find $(PACKAGES) -type f \( -name '*.cpp' -o -name '*.h' -o -name '*.hpp' \)); \
+	if [ -n "$$files" ]; then clang-format -i --style=file $$files; fi
+
+# clean: remove everything built (build/, including devel space, test results, benchmarks).
+clean:
+	rm -rf $(BUILD_DIR)
