@@ -1,0 +1,134 @@
+#include <body_scan_driver/calibration_file.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+namespace body_scan {
+namespace {
+
+YAML::Node matrixNode(int rows, int cols, const std::vector<double>& data) {
+  YAML::Node node;
+  node["rows"] = rows;
+  node["cols"] = cols;
+  node["data"] = data;
+  node["data"].SetStyle(YAML::EmitterStyle::Flow);
+  return node;
+}
+
+std::vector<double> readMatrix(const YAML::Node& root, const std::string& key, size_t size,
+                               const std::string& path) {
+  const YAML::Node data = root[key]["data"];
+  if (!data || !data.IsSequence() || data.size() != size)
+    throw CalibrationFileError("calibration file '" + path + "': '" + key + ".data' must hold " +
+                               std::to_string(size) + " numbers; regenerate the file with the " +
+                               "calibration tool or the simulator's factory calibration");
+  return data.as<std::vector<double>>();
+}
+
+}  // namespace
+
+PairCalibration loadCalibration(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw CalibrationFileError("calibration file '" + path +
+                               "' not found: calibrate the pair, or start the simulated pair "
+                               "with ~factory_calibration_file pointing there");
+  } catch (const YAML::Exception& e) {
+    throw CalibrationFileError("calibration file '" + path + "' is not valid YAML: " + e.what());
+  }
+  try {
+    PairCalibration calibration;
+    calibration.pair_id = root["camera_name"].as<std::string>("");
+    calibration.source = root["source"].as<std::string>("");
+    PinholeCamera& camera = calibration.camera;
+    camera.width = root["image_width"].as<int>();
+    camera.height = root["image_height"].as<int>();
+    const std::vector<double> k = readMatrix(root, "camera_matrix", 9, path);
+    camera.alpha = k[0], camera.gamma = k[1], camera.u0 = k[2], camera.beta = k[4],
+    camera.v0 = k[5];
+    const std::string model = root["distortion_model"].as<std::string>("plumb_bob");
+    if (model != "plumb_bob")
+      throw CalibrationFileError("calibration file '" + path + "': distortion_model '" + model +
+                                 "' is not supported; use plumb_bob with k1, k2 only");
+    const std::vector<double> d = root["distortion_coefficients"]["data"].as<std::vector<double>>();
+    if (d.size() < 2)
+      throw CalibrationFileError("calibration file '" + path +
+                                 "': distortion_coefficients needs at least k1, k2");
+    camera.k1 = d[0], camera.k2 = d[1];
+    for (size_t i = 2; i < d.size(); ++i)
+      if (d[i] != 0)
+        throw CalibrationFileError("calibration file '" + path +
+                                   "': only radial k1, k2 are modelled (eq 3.3); the tangential "
+                                   "and k3 coefficients must be 0");
+    const YAML::Node planes = root["projector"]["planes"];
+    if (!planes || !planes.IsSequence() || planes.size() < 2)
+      throw CalibrationFileError("calibration file '" + path +
+                                 "' has no 'projector: planes:' list (one [a, b, c, d] per stripe)");
+    for (const YAML::Node& plane : planes) {
+      const std::vector<double> p = plane.as<std::vector<double>>();
+      if (p.size() != 4 || !std::isfinite(p[0] + p[1] + p[2] + p[3]))
+        throw CalibrationFileError("calibration file '" + path +
+                                   "': every projector plane must be 4 finite numbers [a, b, c, d]");
+      calibration.projector.planes.emplace_back(p[0], p[1], p[2], p[3]);
+    }
+    const int declared = root["projector"]["stripe_count"].as<int>(-1);
+    if (declared != calibration.projector.stripeCount())
+      throw CalibrationFileError("calibration file '" + path + "': stripe_count " +
+                                 std::to_string(declared) + " does not match the " +
+                                 std::to_string(calibration.projector.stripeCount()) + " planes");
+    return calibration;
+  } catch (const YAML::Exception& e) {
+    throw CalibrationFileError("calibration file '" + path + "' is missing a field or has a " +
+                               "wrong type (" + e.what() + ")");
+  }
+}
+
+void saveCalibration(const std::string& path, const PairCalibration& calibration) {
+  const PinholeCamera& c = calibration.camera;
+  YAML::Node root;
+  root["camera_name"] = calibration.pair_id;
+  root["source"] = calibration.source;
+  root["image_width"] = c.width;
+  root["image_height"] = c.height;
+  root["camera_matrix"] = matrixNode(3, 3, {c.alpha, c.gamma, c.u0, 0, c.beta, c.v0, 0, 0, 1});
+  root["distortion_model"] = "plumb_bob";
+  root["distortion_coefficients"] = matrixNode(1, 5, {c.k1, c.k2, 0, 0, 0});
+  root["rectification_matrix"] = matrixNode(3, 3, {1, 0, 0, 0, 1, 0, 0, 0, 1});
+  root["projection_matrix"] =
+      matrixNode(3, 4, {c.alpha, c.gamma, c.u0, 0, 0, c.beta, c.v0, 0, 0, 0, 1, 0});
+  YAML::Node projector;
+  projector["model"] = "stripe_planes";
+  projector["stripe_count"] = calibration.projector.stripeCount();
+  for (const Eigen::Vector4d& p : calibration.projector.planes) {
+    YAML::Node plane;
+    for (int i = 0; i < 4; ++i) plane.push_back(p[i]);
+    plane.SetStyle(YAML::EmitterStyle::Flow);
+    projector["planes"].push_back(plane);
+  }
+  root["projector"] = projector;
+
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << root;
+  const std::filesystem::path target(path);
+  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
+  const std::string temporary = path + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream file(temporary);
+    file << "# Pair calibration (body_scan): camera part readable by camera_calibration_parsers;\n"
+            "# projector planes a x + b y + c z + d = 0 per stripe, camera optical frame, metres.\n"
+         << out.c_str() << "\n";
+    if (!file.flush())
+      throw CalibrationFileError("cannot write calibration file '" + temporary +
+                                 "': check the folder exists and is writable");
+  }
+  std::filesystem::rename(temporary, target);
+}
+
+}  // namespace body_scan
