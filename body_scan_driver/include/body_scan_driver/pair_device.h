@@ -1,0 +1,42 @@
+// One projector-camera pair as the driver sees it, whatever is behind it: the simulator now,
+// USB hardware later (the velodyne driver's Input/InputSocket/InputPCAP split).
+#pragma once
+
+#include <body_scan_driver/gray_code.h>
+#include <body_scan_driver/pair_model.h>
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <opencv2/core/mat.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace body_scan {
+
+struct PatternCapture {
+  std::vector<cv::Mat> frames;  // CV_8UC1 in PatternLayout order
+  cv::Mat texture;              // CV_8UC3 RGB
+};
+
+class PairDevice {
+ public:
+  virtual ~PairDevice() = default;
+  // Projects the pattern sequence and captures it. Throws std::runtime_error on device failure.
+  virtual PatternCapture capture(uint32_t scan_id) = 0;
+  virtual const PatternLayout& layout() const = 0;
+  // The camera model to announce in camera_info (from the factory or a calibration).
+  virtual PinholeCamera camera() const = 0;
+  // The calibration the device was built with, if it knows one (the simulator does).
+  virtual std::optional<PairCalibration> factoryCalibration() const { return std::nullopt; }
+  // The camera's pose in the world if the device knows it (the simulator does).
+  virtual std::optional<Eigen::Isometry3d> factoryPose() const { return std::nullopt; }
+};
+
+// The virtual pair: renders the scene file seen by the pair file's camera.
+// Throws std::runtime_error naming the file and the problem.
+std::unique_ptr<PairDevice> makeSimulatedPair(const std::string& pair_file,
+                                              const std::string& scene_file);
+
+}  // namespace body_scan

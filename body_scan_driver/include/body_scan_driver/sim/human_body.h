@@ -1,0 +1,87 @@
+// Posable procedural human body for the virtual pair: ellipsoids sized from anthropometric
+// parameters and posed by joint angles. Body frame: x forward (the subject's front), y to the
+// subject's left, z up, origin on the floor under the pelvis (DESIGN.md section 3).
+#pragma once
+
+#include <body_scan_driver/sim/scene.h>
+
+#include <string>
+#include <vector>
+
+namespace YAML {
+class Node;
+}
+
+namespace body_scan::sim {
+
+// Body dimensions in metres. fromStature() fills every field from standard segment-length
+// ratios of stature (Drillis & Contini) and typical girths; any field may then be overridden.
+struct Anthropometry {
+  double stature = 1.75;
+  double head_height = 0;       // vertex to chin
+  double neck_length = 0;       // chin to shoulder line
+  double shoulder_width = 0;    // between the shoulder joint centres
+  double torso_length = 0;      // shoulder joints to hip joints (vertical)
+  double hip_width = 0;         // between the hip joint centres
+  double upper_arm_length = 0;  // shoulder to elbow
+  double forearm_length = 0;    // elbow to wrist
+  double hand_length = 0;
+  double thigh_length = 0;  // hip to knee
+  double shank_length = 0;  // knee to ankle
+  double ankle_height = 0;  // floor to ankle joint
+  double foot_length = 0;
+  double head_girth = 0;
+  double neck_girth = 0;
+  double chest_girth = 0;
+  double waist_girth = 0;
+  double hip_girth = 0;
+  double upper_arm_girth = 0;
+  double forearm_girth = 0;
+  double thigh_girth = 0;
+  double calf_girth = 0;
+
+  static Anthropometry fromStature(double stature);
+};
+
+// Joint angles in radians. Flexion is about the body's lateral (y) axis, positive = limb
+// forward (knee and elbow flexion positive = bending); abduction is about the body's x axis,
+// positive = away from the midline. Defaults: standing, arms slightly abducted.
+struct BodyPose {
+  double heading = 0;    // rotation of the body about world z (0 = facing world +x)
+  double torso_lean = 0; // forward lean of the upper torso about the hips
+  double neck_flexion = 0;
+  double left_shoulder_flexion = 0, left_shoulder_abduction = 0.2, left_elbow_flexion = 0.1;
+  double right_shoulder_flexion = 0, right_shoulder_abduction = 0.2, right_elbow_flexion = 0.1;
+  double left_hip_flexion = 0, left_hip_abduction = 0.03, left_knee_flexion = 0;
+  double right_hip_flexion = 0, right_hip_abduction = 0.03, right_knee_flexion = 0;
+};
+
+// Albedos of skin, hair and clothing (defaults: DESIGN/issue defaults, dark hair and
+// dark trunks 0.15, skin 0.6).
+struct BodyMaterials {
+  Material skin{0.6, {0.87, 0.68, 0.58}};
+  Material hair{0.15, {0.12, 0.09, 0.07}};
+  Material clothing{0.15, {0.10, 0.10, 0.12}};
+};
+
+struct HumanBodySpec {
+  std::string name = "person";
+  Anthropometry body = Anthropometry::fromStature(1.75);
+  BodyPose pose;
+  BodyMaterials materials;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world, floor point under the pelvis
+};
+
+// The true skeleton (world frame) of a posed body: joints named head_top, neck, left_shoulder,
+// left_elbow, left_wrist, left_hand_tip, left_hip, left_knee, left_ankle, left_toe (and right_),
+// pelvis, chest.
+std::vector<SkeletonJoint> humanSkeleton(const HumanBodySpec& spec);
+
+// Adds the body's surfaces (named "<name>/<segment>") and skeleton to the scene.
+void addHumanBody(const HumanBodySpec& spec, Scene& scene);
+
+// Reads a spec from a scene-file node (keys documented in config/scenes/standing_person.yaml).
+// Throws std::runtime_error naming the bad key and the accepted values.
+HumanBodySpec humanBodyFromYaml(const YAML::Node& node);
+
+}  // namespace body_scan::sim

@@ -1,0 +1,113 @@
+// The virtual projector-camera pair (DESIGN.md section 4): renders the Gray code pattern set a
+// real pair would capture of a scene, with its exact ground truth.
+#pragma once
+
+#include <body_scan_driver/gray_code.h>
+#include <body_scan_driver/pair_model.h>
+#include <body_scan_driver/sim/scene.h>
+
+#include <cstdint>
+#include <memory>
+#include <opencv2/core/mat.hpp>
+#include <string>
+#include <vector>
+
+namespace body_scan::sim {
+
+// A laser line generator whose fan is swept by a rotating mirror (the thesis's projector,
+// sec. 4.2.1). The mirror face is offset from its rotation axis, so the point where the laser
+// meets the mirror moves with the angle and the stripe planes do NOT share one line: a pinhole
+// projector model fits it worse than the plane-per-stripe model (Table 3.2).
+// Everything is in the camera optical frame (metres, radians). Defaults: a pole pair with the
+// projector 330 mm above the camera sweeping a horizontal line down over the camera's view.
+struct SweptLaserProjector {
+  Eigen::Vector3d mirror_axis_point{0.0, -0.33, 0.0};
+  Eigen::Vector3d mirror_axis{1.0, 0.004, -0.006};  // slightly misaligned, as built
+  double mirror_offset = 0.008;                     // rotation axis to mirror face
+  Eigen::Vector3d laser_origin{0.0, -0.37, 0.0};    // line generator above the mirror
+  Eigen::Vector3d laser_direction{0.0, 1.0, 0.0};   // pointing down at the mirror
+  Eigen::Vector3d laser_fan_axis{1.0, 0.0, 0.0};    // direction the laser line spreads in
+  double fan_half_angle = 0.6;
+  double first_mirror_angle = 0.7505;  // at stripe coordinate 0 (~43 deg): beam 4 deg up
+  double last_mirror_angle = 1.0996;   // at coordinate stripe_count (~63 deg): beam 36 deg down
+
+  struct Plane {
+    Eigen::Vector3d normal;  // unit
+    double offset;           // plane: normal . x + offset = 0
+    Eigen::Vector3d source;  // where the light leaves the mirror
+    Eigen::Vector3d spread;  // direction of the line within the plane
+    Eigen::Vector3d central; // central ray direction
+  };
+  // The light plane at mirror angle `angle`.
+  Plane planeAtAngle(double angle) const;
+};
+
+// Optics and noise. Defaults are the suite's documented defaults used by every test unless it
+// says otherwise: sensor noise 2 grey levels (of 255), blur 0.7 px, ambient light 10% of the
+// projector's brightness.
+struct SensorModel {
+  double noise_sigma = 2.0;
+  double blur_sigma = 0.7;
+  double ambient = 0.1;
+  double projector_level = 200.0;  // grey level of a white (albedo 1) surface lit head-on at 1 m
+  uint32_t seed = 1;
+};
+
+struct VirtualPairConfig {
+  std::string pair_id = "pole_a/pair_1";
+  PinholeCamera camera{640, 480, 810, 810, 0, 319.5, 239.5, -0.08, 0.03};
+  SweptLaserProjector projector;
+  SensorModel sensor;
+  int bits = 8;
+  bool inverse_frames = true;
+  Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();
+};
+
+// Camera pose from a position and the heading of the optical axis (yaw about world z, 0 = +x;
+// pitch > 0 looks down); image x stays horizontal.
+Eigen::Isometry3d cameraPose(const Eigen::Vector3d& position, double yaw, double pitch);
+
+// Reads a pair file (see config/pairs/default_pair.yaml). Throws std::runtime_error naming
+// the file and the bad key.
+VirtualPairConfig loadVirtualPairConfig(const std::string& path);
+
+// Exact ground truth of one render. Only the simulator, tests and evaluation tools use it.
+struct GroundTruth {
+  cv::Mat3f points;           // camera-frame point seen at each pixel centre; NaN = nothing
+  cv::Mat1f stripe;           // continuous stripe coordinate lighting it; NaN = unlit/shadow
+  cv::Mat1i surface;          // index into Scene::surfaces(); -1 = nothing
+  std::vector<SkeletonJoint> skeleton;  // world frame
+};
+
+struct RenderedPatternSet {
+  std::vector<cv::Mat> frames;  // CV_8UC1, PatternLayout order
+  cv::Mat texture;              // CV_8UC3, RGB
+  GroundTruth truth;
+};
+
+class VirtualPair {
+ public:
+  VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> scene);
+
+  // Deterministic for a given config, scene and scan id.
+  RenderedPatternSet render(uint32_t scan_id = 0) const;
+  // The true geometry in the calibration model: intrinsics + the plane at each stripe centre.
+  PairCalibration factoryCalibration() const;
+
+  const VirtualPairConfig& config() const { return config_; }
+  const PatternLayout& layout() const { return layout_; }
+
+ private:
+  struct SurfaceSample;
+  double trueStripe(const Eigen::Vector3d& point_camera, SweptLaserProjector::Plane* plane) const;
+
+  VirtualPairConfig config_;
+  std::shared_ptr<const Scene> scene_;
+  PatternLayout layout_;
+  std::vector<Eigen::Vector3f> camera_rays_;          // unit rays per pixel (camera frame)
+  std::vector<SweptLaserProjector::Plane> sweep_;     // planes at fine steps of the coordinate
+  double sweep_step_;                                 // stripe coordinate between sweep_ entries
+  std::vector<float> noise_;                          // unit Gaussian samples
+};
+
+}  // namespace body_scan::sim

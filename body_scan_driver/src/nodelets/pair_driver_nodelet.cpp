@@ -1,0 +1,145 @@
+// PairDriver: captures pattern sets from one pair and publishes them (DESIGN.md section 3).
+#include <body_scan_driver/calibration_file.h>
+#include <body_scan_driver/pair_device.h>
+#include <body_scan_driver/ros/conversions.h>
+#include <body_scan_msgs/Capture.h>
+#include <body_scan_msgs/PatternSet.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <std_msgs/UInt32.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+
+#include <mutex>
+#include <pluginlib/class_list_macros.hpp>
+
+namespace body_scan {
+
+class PairDriverNodelet : public nodelet::Nodelet {
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    const std::string backend = pnh.param<std::string>("backend", "sim");
+    pair_id_ = pnh.param<std::string>("pair_id", "pole_a/pair_1");
+    frame_id_ = pnh.param<std::string>("frame_id", pair_id_ + "_camera_optical_frame");
+    world_frame_ = pnh.param<std::string>("world_frame", "world");
+    const double rate = pnh.param("rate", 0.0);
+
+    pattern_pub_ = nh.advertise<body_scan_msgs::PatternSet>("pattern_set", 2);
+    image_pub_ = nh.advertise<sensor_msgs::Image>("image_raw", 2);
+    info_pub_ = nh.advertise<sensor_msgs::CameraInfo>("camera_info", 2);
+    capture_srv_ = pnh.advertiseService("capture", &PairDriverNodelet::onCapture, this);
+    trigger_sub_ = nh.subscribe("scan_trigger", 4, &PairDriverNodelet::onTrigger, this);
+
+    try {
+      if (backend == "sim") {
+        device_ = makeSimulatedPair(pnh.param<std::string>("pair_file", ""),
+                                    pnh.param<std::string>("scene_file", ""));
+      } else {
+        throw std::runtime_error("backend '" + backend + "' is not available; use backend:=sim");
+      }
+    } catch (const std::exception& e) {
+      // Stay alive so the other pairs in this manager keep working; captures report the error.
+      device_error_ = e.what();
+      NODELET_ERROR("[%s] cannot open the pair: %s", pair_id_.c_str(), e.what());
+      return;
+    }
+    publishFactoryData(pnh.param<std::string>("factory_calibration_file", ""),
+                       pnh.param("publish_factory_tf", true));
+    if (rate > 0)
+      timer_ = nh.createTimer(ros::Duration(1.0 / rate), [this](const ros::TimerEvent&) {
+        std::string message;
+        captureAndPublish(0, message);
+      });
+    NODELET_INFO("[%s] %s pair ready: %d bits%s, %s", pair_id_.c_str(), backend.c_str(),
+                 device_->layout().bits(), device_->layout().inverseFrames() ? " + inverses" : "",
+                 rate > 0 ? ("capturing at " + std::to_string(rate) + " Hz").c_str()
+                          : "capturing on ~capture or scan_trigger");
+  }
+
+  // The simulator knows its true geometry: write it as a calibration file and announce its
+  // pose, so triangulation works before the pair is calibrated.
+  void publishFactoryData(const std::string& calibration_file, bool publish_tf) {
+    if (auto calibration = device_->factoryCalibration(); calibration && !calibration_file.empty()) {
+      try {
+        saveCalibration(calibration_file, *calibration);
+        NODELET_INFO("[%s] factory calibration written to %s", pair_id_.c_str(),
+                     calibration_file.c_str());
+      } catch (const std::exception& e) {
+        NODELET_ERROR("[%s] %s", pair_id_.c_str(), e.what());
+      }
+    }
+    if (auto pose = device_->factoryPose(); pose && publish_tf) {
+      geometry_msgs::TransformStamped transform;
+      transform.header.stamp = ros::Time::now();
+      transform.header.frame_id = world_frame_;
+      transform.child_frame_id = frame_id_;
+      const Eigen::Quaterniond q(pose->linear());
+      transform.transform.translation.x = pose->translation().x();
+      transform.transform.translation.y = pose->translation().y();
+      transform.transform.translation.z = pose->translation().z();
+      transform.transform.rotation.x = q.x();
+      transform.transform.rotation.y = q.y();
+      transform.transform.rotation.z = q.z();
+      transform.transform.rotation.w = q.w();
+      tf_broadcaster_.sendTransform(transform);
+    }
+  }
+
+  bool onCapture(body_scan_msgs::Capture::Request& request,
+                 body_scan_msgs::Capture::Response& response) {
+    response.scan_id = request.scan_id;
+    response.success = captureAndPublish(request.scan_id, response.message);
+    response.scan_id = last_scan_id_;
+    return true;
+  }
+
+  void onTrigger(const std_msgs::UInt32::ConstPtr& scan_id) {
+    std::string message;
+    if (!captureAndPublish(scan_id->data, message))
+      NODELET_ERROR_THROTTLE(5.0, "[%s] %s", pair_id_.c_str(), message.c_str());
+  }
+
+  bool captureAndPublish(uint32_t scan_id, std::string& message) {
+    std::lock_guard<std::mutex> lock(capture_mutex_);  // one pattern sequence at a time
+    if (!device_) {
+      message = "pair not available: " + device_error_;
+      return false;
+    }
+    last_scan_id_ = scan_id != 0 ? scan_id : last_scan_id_ + 1;
+    PatternCapture capture;
+    try {
+      capture = device_->capture(last_scan_id_);
+    } catch (const std::exception& e) {
+      message = std::string("capture failed: ") + e.what();
+      return false;
+    }
+    std_msgs::Header header;
+    header.stamp = ros::Time::now();
+    header.frame_id = frame_id_;
+    const body_scan_msgs::PatternSetPtr set = toPatternSet(
+        capture, device_->layout(), device_->camera(), header, pair_id_, last_scan_id_);
+    pattern_pub_.publish(set);  // shared pointer: zero copy to nodelets in this manager
+    if (image_pub_.getNumSubscribers() > 0) image_pub_.publish(set->texture);
+    info_pub_.publish(set->camera_info);
+    message = "captured scan " + std::to_string(last_scan_id_);
+    return true;
+  }
+
+  std::unique_ptr<PairDevice> device_;
+  std::string device_error_, pair_id_, frame_id_, world_frame_;
+  uint32_t last_scan_id_ = 0;
+  std::mutex capture_mutex_;
+  ros::Publisher pattern_pub_, image_pub_, info_pub_;
+  ros::ServiceServer capture_srv_;
+  ros::Subscriber trigger_sub_;
+  ros::Timer timer_;
+  tf2_ros::StaticTransformBroadcaster tf_broadcaster_;
+};
+
+}  // namespace body_scan
+
+PLUGINLIB_EXPORT_CLASS(body_scan::PairDriverNodelet, nodelet::Nodelet)

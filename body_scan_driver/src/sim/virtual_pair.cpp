@@ -1,0 +1,292 @@
+#include <body_scan_driver/sim/virtual_pair.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/core.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+#include <random>
+
+namespace body_scan::sim {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr int kSweepSamplesPerStripe = 16;
+constexpr size_t kNoiseTableSize = size_t{1} << 20;  // power of two: index by mask
+constexpr float kMaxFootprint = 4.f;                 // stripes; wider pixels are grazing
+
+// Deterministic 64-bit mix (splitmix64) for noise offsets.
+uint64_t mix(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+cv::Vec3f toVec3f(const Eigen::Vector3d& v) {
+  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
+}
+
+}  // namespace
+
+SweptLaserProjector::Plane SweptLaserProjector::planeAtAngle(double angle) const {
+  const Eigen::Vector3d axis = mirror_axis.normalized();
+  const Eigen::Vector3d up(0, -1, 0);
+  const Eigen::Vector3d e1 = (up - axis.dot(up) * axis).normalized();
+  const Eigen::Vector3d e2 = e1.cross(axis);
+  const Eigen::Vector3d mirror_normal = std::cos(angle) * e1 + std::sin(angle) * e2;
+  const Eigen::Vector3d d = laser_direction.normalized();
+  // The laser meets the mirror face n . (x - axis_point) = offset: this point moves with angle.
+  const double t = (mirror_offset - mirror_normal.dot(laser_origin - mirror_axis_point)) /
+                   mirror_normal.dot(d);
+  Plane plane;
+  plane.source = laser_origin + t * d;
+  plane.central = d - 2 * d.dot(mirror_normal) * mirror_normal;
+  Eigen::Vector3d spread = laser_fan_axis - 2 * laser_fan_axis.dot(mirror_normal) * mirror_normal;
+  plane.spread = (spread - spread.dot(plane.central) * plane.central).normalized();
+  plane.normal = plane.spread.cross(plane.central).normalized();
+  plane.offset = -plane.normal.dot(plane.source);
+  return plane;
+}
+
+Eigen::Isometry3d cameraPose(const Eigen::Vector3d& position, double yaw, double pitch) {
+  const Eigen::Vector3d forward(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
+                                -std::sin(pitch));
+  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d down = forward.cross(right);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() << right, down, forward;  // columns: optical x, y, z in the world
+  pose.translation() = position;
+  return pose;
+}
+
+VirtualPair::VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> scene)
+    : config_(std::move(config)),
+      scene_(std::move(scene)),
+      layout_(config_.bits, config_.inverse_frames) {
+  const PinholeCamera& camera = config_.camera;
+  camera_rays_.reserve(static_cast<size_t>(camera.width) * camera.height);
+  for (int v = 0; v < camera.height; ++v)
+    for (int u = 0; u < camera.width; ++u) {
+      const Eigen::Vector2d p = camera.normalizedPoint({u, v});
+      camera_rays_.push_back(Eigen::Vector3d(p.x(), p.y(), 1.0).normalized().cast<float>());
+    }
+  const int stripes = layout_.stripeCount();
+  sweep_step_ = 1.0 / kSweepSamplesPerStripe;
+  const SweptLaserProjector& projector = config_.projector;
+  for (int k = 0; k <= stripes * kSweepSamplesPerStripe; ++k) {
+    const double fraction = k * sweep_step_ / stripes;
+    sweep_.push_back(projector.planeAtAngle(
+        projector.first_mirror_angle +
+        fraction * (projector.last_mirror_angle - projector.first_mirror_angle)));
+  }
+  std::mt19937 generator(config_.sensor.seed);
+  std::normal_distribution<float> normal(0.f, 1.f);
+  noise_.resize(kNoiseTableSize);
+  for (float& sample : noise_) sample = normal(generator);
+}
+
+double VirtualPair::trueStripe(const Eigen::Vector3d& point,
+                               SweptLaserProjector::Plane* plane) const {
+  auto side = [&](size_t k) { return sweep_[k].normal.dot(point) + sweep_[k].offset; };
+  size_t lo = 0, hi = sweep_.size() - 1;
+  double g_lo = side(lo), g_hi = side(hi);
+  if (g_lo * g_hi > 0) return kNaN;  // outside the sweep
+  while (hi - lo > 1) {
+    const size_t mid = (lo + hi) / 2;
+    const double g_mid = side(mid);
+    if ((g_mid > 0) == (g_lo > 0)) {
+      lo = mid, g_lo = g_mid;
+    } else {
+      hi = mid, g_hi = g_mid;
+    }
+  }
+  // Secant steps on the exact planes remove the table's interpolation error.
+  const SweptLaserProjector& projector = config_.projector;
+  const double stripes = layout_.stripeCount();
+  const double slope = (g_hi - g_lo) / sweep_step_;
+  double s = (lo + g_lo / (g_lo - g_hi)) * sweep_step_;
+  for (int iteration = 0; iteration < 2; ++iteration) {
+    *plane = projector.planeAtAngle(projector.first_mirror_angle +
+                                    s / stripes *
+                                        (projector.last_mirror_angle - projector.first_mirror_angle));
+    s -= (plane->normal.dot(point) + plane->offset) / slope;
+  }
+  const Eigen::Vector3d to_point = point - plane->source;
+  const double along = to_point.dot(plane->central);
+  if (!(along > 0) ||
+      std::abs(to_point.dot(plane->spread)) > along * std::tan(projector.fan_half_angle))
+    return kNaN;  // outside the laser fan
+  return s;
+}
+
+// What the camera sees at one pixel, before optics and noise.
+struct VirtualPair::SurfaceSample {
+  float stripe = std::numeric_limits<float>::quiet_NaN();
+  float ambient_level = 0;    // grey level under ambient light alone
+  float projector_level = 0;  // added where the projector lights the point
+  cv::Vec3f color{0, 0, 0};
+};
+
+RenderedPatternSet VirtualPair::render(uint32_t scan_id) const {
+  const PinholeCamera& camera = config_.camera;
+  const SensorModel& sensor = config_.sensor;
+  const int rows = camera.height, cols = camera.width;
+  const Eigen::Isometry3d& pose = config_.world_from_camera;
+  const Eigen::Matrix3d rotation = pose.linear();
+
+  RenderedPatternSet result;
+  GroundTruth& truth = result.truth;
+  truth.points.create(rows, cols);
+  truth.stripe.create(rows, cols);
+  truth.surface.create(rows, cols);
+  truth.skeleton = scene_->skeleton();
+  std::vector<SurfaceSample> samples(static_cast<size_t>(rows) * cols);
+
+  cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& range) {
+    for (int v = range.start; v < range.end; ++v)
+      for (int u = 0; u < cols; ++u) {
+        const size_t index = static_cast<size_t>(v) * cols + u;
+        const Eigen::Vector3d ray_camera = camera_rays_[index].cast<double>();
+        Hit hit;
+        truth.surface(v, u) = -1;
+        truth.points(v, u) = cv::Vec3f::all(std::numeric_limits<float>::quiet_NaN());
+        truth.stripe(v, u) = std::numeric_limits<float>::quiet_NaN();
+        if (!scene_->intersect(Ray{pose.translation(), rotation * ray_camera}, hit)) continue;
+        const Eigen::Vector3d point_camera = hit.distance * ray_camera;
+        const Eigen::Vector3d point_world = pose * point_camera;
+        const auto& surfaces = scene_->surfaces();
+        for (size_t i = 0; i < surfaces.size(); ++i)
+          if (surfaces[i].get() == hit.surface) truth.surface(v, u) = static_cast<int>(i);
+        truth.points(v, u) = toVec3f(point_camera);
+
+        const Eigen::Vector3d normal_camera = rotation.transpose() * hit.normal;
+        const double albedo = hit.surface->albedoAt(point_world);
+        const Eigen::Vector3d color = hit.surface->colorAt(point_world);
+        SurfaceSample& sample = samples[index];
+        sample.ambient_level = static_cast<float>(sensor.projector_level * albedo * sensor.ambient);
+        const double facing = std::max(0.0, -normal_camera.dot(ray_camera));
+        sample.color = toVec3f(color) *
+                       static_cast<float>(255.0 * (0.3 + 0.7 * facing));
+
+        SweptLaserProjector::Plane plane;
+        const double stripe = trueStripe(point_camera, &plane);
+        if (!std::isfinite(stripe)) continue;
+        const Eigen::Vector3d to_source = plane.source - point_camera;
+        const double distance = to_source.norm();
+        const double incidence = normal_camera.dot(to_source) / distance;
+        if (incidence <= 0 || scene_->occluded(point_world, pose * plane.source)) continue;
+        // A line laser's irradiance falls as 1/distance; normalized at 1 m.
+        sample.projector_level =
+            static_cast<float>(sensor.projector_level * albedo * incidence / distance);
+        sample.stripe = static_cast<float>(stripe);
+        truth.stripe(v, u) = sample.stripe;
+      }
+  });
+
+  // Stripe footprint of each pixel: how much of the coordinate its area spans (antialiasing
+  // keeps the subpixel position of stripe edges in the image, as a real sensor does).
+  std::vector<float> footprint(samples.size(), 0.f);
+  auto stripe_at = [&](int v, int u) {
+    return (u < 0 || v < 0 || u >= cols || v >= rows)
+               ? std::numeric_limits<float>::quiet_NaN()
+               : samples[static_cast<size_t>(v) * cols + u].stripe;
+  };
+  auto smaller_step = [](float here, float a, float b) {
+    const float da = std::abs(a - here), db = std::abs(b - here);
+    if (std::isnan(da)) return std::isnan(db) ? 0.f : db;
+    return std::isnan(db) ? da : std::min(da, db);
+  };
+  for (int v = 0; v < rows; ++v)
+    for (int u = 0; u < cols; ++u) {
+      const float s = stripe_at(v, u);
+      if (std::isnan(s)) continue;
+      const float du = smaller_step(s, stripe_at(v, u - 1), stripe_at(v, u + 1));
+      const float dv = smaller_step(s, stripe_at(v - 1, u), stripe_at(v + 1, u));
+      footprint[static_cast<size_t>(v) * cols + u] = std::min(std::hypot(du, dv), kMaxFootprint);
+    }
+
+  // Which stripes each frame lights.
+  const int frames = layout_.frameCount(), stripes = layout_.stripeCount();
+  std::vector<std::vector<uint8_t>> lights(frames, std::vector<uint8_t>(stripes));
+  for (int f = 0; f < frames; ++f)
+    for (int k = 0; k < stripes; ++k) lights[f][k] = layout_.lights(f, k);
+
+  auto add_noise = [&](const cv::Mat& image, uint64_t stream, cv::Mat& out) {
+    size_t offset = mix(mix(sensor.seed) ^ mix(scan_id) ^ stream);
+    const float sigma = static_cast<float>(sensor.noise_sigma);
+    out.create(image.size(), CV_MAKETYPE(CV_8U, image.channels()));
+    const int values = image.cols * image.channels();
+    for (int v = 0; v < image.rows; ++v) {
+      const float* in = image.ptr<float>(v);
+      uint8_t* o = out.ptr<uint8_t>(v);
+      for (int i = 0; i < values; ++i)
+        o[i] = cv::saturate_cast<uint8_t>(in[i] + sigma * noise_[offset++ & (kNoiseTableSize - 1)]);
+    }
+  };
+  auto optics = [&](cv::Mat& image) {
+    if (sensor.blur_sigma > 0)
+      cv::GaussianBlur(image, image, cv::Size(0, 0), sensor.blur_sigma, sensor.blur_sigma,
+                       cv::BORDER_REPLICATE);
+  };
+
+  result.frames.resize(frames);
+  cv::parallel_for_(cv::Range(0, frames), [&](const cv::Range& range) {
+    cv::Mat1f image(rows, cols);
+    for (int f = range.start; f < range.end; ++f) {
+      const std::vector<uint8_t>& lit = lights[f];
+      for (int v = 0; v < rows; ++v) {
+        float* out = image.ptr<float>(v);
+        for (int u = 0; u < cols; ++u) {
+          const size_t index = static_cast<size_t>(v) * cols + u;
+          const SurfaceSample& sample = samples[index];
+          float coverage = 0;
+          if (!std::isnan(sample.stripe)) {
+            const float width = footprint[index];
+            if (width < 1e-3f) {
+              coverage = lit[std::clamp(static_cast<int>(sample.stripe), 0, stripes - 1)];
+            } else {
+              // Box filter of the lit stripes over [s - width/2, s + width/2].
+              const float lo = sample.stripe - 0.5f * width, hi = sample.stripe + 0.5f * width;
+              for (int k = static_cast<int>(std::floor(lo)); k <= static_cast<int>(std::floor(hi));
+                   ++k)
+                if (k >= 0 && k < stripes && lit[k])
+                  coverage += std::min(hi, k + 1.f) - std::max(lo, static_cast<float>(k));
+              coverage /= width;
+            }
+          }
+          out[u] = sample.ambient_level + sample.projector_level * coverage;
+        }
+      }
+      optics(image);
+      add_noise(image, static_cast<uint64_t>(f) + 1, result.frames[f]);
+    }
+  });
+
+  cv::Mat3f texture(rows, cols);
+  for (int v = 0; v < rows; ++v)
+    for (int u = 0; u < cols; ++u) texture(v, u) = samples[static_cast<size_t>(v) * cols + u].color;
+  optics(texture);
+  add_noise(texture, 0, result.texture);
+  return result;
+}
+
+PairCalibration VirtualPair::factoryCalibration() const {
+  PairCalibration calibration;
+  calibration.pair_id = config_.pair_id;
+  calibration.source = "factory (simulator ground truth)";
+  calibration.camera = config_.camera;
+  const SweptLaserProjector& projector = config_.projector;
+  const int stripes = layout_.stripeCount();
+  for (int i = 0; i < stripes; ++i) {
+    const SweptLaserProjector::Plane plane = projector.planeAtAngle(
+        projector.first_mirror_angle +
+        (i + 0.5) / stripes * (projector.last_mirror_angle - projector.first_mirror_angle));
+    calibration.projector.planes.emplace_back(plane.normal.x(), plane.normal.y(), plane.normal.z(),
+                                              plane.offset);
+  }
+  return calibration;
+}
+
+}  // namespace body_scan::sim

@@ -1,0 +1,73 @@
+#include <body_scan_driver/calibration_file.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "sim_fixtures.h"
+
+using namespace body_scan;
+
+namespace {
+
+std::string temporaryFolder() {
+  const auto folder = std::filesystem::temp_directory_path() /
+                      ("body_scan_calibration_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  return folder.string();
+}
+
+std::string expectError(const std::string& path) {
+  try {
+    loadCalibration(path);
+  } catch (const CalibrationFileError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no error for " << path;
+  return "";
+}
+
+}  // namespace
+
+TEST(CalibrationFile, RoundTripIsExactAndAtomic) {
+  const sim::VirtualPair pair(test::pairLookingAlongX(), test::planeScene(1.0));
+  const PairCalibration written = pair.factoryCalibration();
+  const std::string folder = temporaryFolder();
+  const std::string path = folder + "/nested/pair.yaml";
+  saveCalibration(path, written);
+  const PairCalibration read = loadCalibration(path);
+  EXPECT_EQ(read.pair_id, written.pair_id);
+  EXPECT_EQ(read.camera.width, 640);
+  EXPECT_DOUBLE_EQ(read.camera.alpha, written.camera.alpha);
+  EXPECT_DOUBLE_EQ(read.camera.k1, written.camera.k1);
+  EXPECT_DOUBLE_EQ(read.camera.k2, written.camera.k2);
+  ASSERT_EQ(read.projector.stripeCount(), 256);
+  for (int i = 0; i < 256; ++i)
+    EXPECT_EQ((read.projector.planes[i] - written.projector.planes[i]).norm(), 0.0) << i;
+  // Only the final file remains: the temporary one was renamed over it.
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder + "/nested"),
+                          std::filesystem::directory_iterator()),
+            1);
+  std::filesystem::remove_all(folder);
+}
+
+TEST(CalibrationFile, BadFilesGiveErrorsNamingTheProblemAndTheFix) {
+  const std::string folder = temporaryFolder();
+  std::string message = expectError(folder + "/missing.yaml");
+  EXPECT_NE(message.find("missing.yaml"), std::string::npos);
+  EXPECT_NE(message.find("calibrate the pair"), std::string::npos);
+
+  std::ofstream(folder + "/no_planes.yaml")
+      << "image_width: 640\nimage_height: 480\ncamera_matrix: {rows: 3, cols: 3, data: "
+         "[810, 0, 320, 0, 810, 240, 0, 0, 1]}\ndistortion_coefficients: {data: [0, 0, 0, 0, "
+         "0]}\n";
+  EXPECT_NE(expectError(folder + "/no_planes.yaml").find("projector: planes:"), std::string::npos);
+
+  std::ofstream(folder + "/short_matrix.yaml")
+      << "image_width: 640\nimage_height: 480\ncamera_matrix: {data: [810, 0]}\n";
+  EXPECT_NE(expectError(folder + "/short_matrix.yaml").find("9 numbers"), std::string::npos);
+
+  std::ofstream(folder + "/broken.yaml") << "camera_matrix: [unclosed\n";
+  EXPECT_NE(expectError(folder + "/broken.yaml").find("not valid YAML"), std::string::npos);
+  std::filesystem::remove_all(folder);
+}

@@ -1,0 +1,85 @@
+#include <body_scan_driver/stripe_decoder.h>
+#include <body_scan_driver/triangulation.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sim_fixtures.h"
+#include "sphere_fit.h"
+
+using namespace body_scan;
+
+namespace {
+
+std::vector<Eigen::Vector3d> reconstruct(const sim::VirtualPair& pair,
+                                         const sim::RenderedPatternSet& set, bool subpixel) {
+  DecoderParams params;
+  params.subpixel = subpixel;
+  StripeImage image;
+  StripeDecoder(pair.layout(), params).decode(set.frames, image);
+  cv::Mat4f points(image.coordinate.size());
+  Triangulator(pair.factoryCalibration()).triangulate(image.coordinate, points.ptr<float>(), 4);
+  std::vector<Eigen::Vector3d> valid;
+  for (const cv::Vec4f& p : cv::Mat_<cv::Vec4f>(points))
+    if (std::isfinite(p[2])) valid.emplace_back(p[0], p[1], p[2]);
+  return valid;
+}
+
+}  // namespace
+
+TEST(Triangulation, RayPlaneIntersectionIsExact) {
+  const Eigen::Vector4d plane(0.1, -0.9, 0.3, -0.25);
+  const Eigen::Vector3d point = intersectRayPlane({0.2, -0.1}, plane);
+  EXPECT_NEAR(plane.head<3>().dot(point) + plane[3], 0.0, 1e-12);
+  EXPECT_NEAR(point.x() / point.z(), 0.2, 1e-12);
+  EXPECT_TRUE(std::isnan(intersectRayPlane({0.2, -0.1}, {0, 0, 1, 1}).z()));  // behind camera
+}
+
+TEST(Triangulation, PlaneAtOneMetreWithFactoryCalibration) {
+  const sim::VirtualPair pair(test::pairLookingAlongX(), test::planeScene(1.0));
+  const sim::RenderedPatternSet set = pair.render(21);
+  double mean_error[2];
+  for (bool subpixel : {false, true}) {
+    const std::vector<Eigen::Vector3d> points = reconstruct(pair, set, subpixel);
+    ASSERT_GT(points.size(), 250000u);
+    double sum = 0;
+    for (const Eigen::Vector3d& p : points) sum += std::abs(p.z() - 1.0);  // true plane z = 1
+    mean_error[subpixel] = 1000 * sum / points.size();
+    std::cout << "[ figure ] plane at 1.0 m, subpixel " << subpixel << ": " << points.size()
+              << " points, mean |error| " << mean_error[subpixel] << " mm\n";
+  }
+  EXPECT_LE(mean_error[1], 1.0);
+  EXPECT_LT(mean_error[1], mean_error[0]);
+}
+
+TEST(Triangulation, SphereOfRadius25mmAtOneMetre) {
+  constexpr double kRadius = 0.025;
+  auto scene = std::make_shared<sim::Scene>();
+  scene->add(std::make_unique<sim::Sphere>(Eigen::Vector3d(1.0, 0.02, -0.03), kRadius,
+                                           sim::Material{0.6, {0.9, 0.9, 0.9}}));
+  const sim::VirtualPair pair(test::pairLookingAlongX(), scene);
+  const sim::RenderedPatternSet set = pair.render(31);
+  double radius_error[2];
+  for (bool subpixel : {false, true}) {
+    const std::vector<Eigen::Vector3d> points = reconstruct(pair, set, subpixel);
+    ASSERT_GT(points.size(), 800u);
+    const test::SphereFit fit = test::fitSphere(points);
+    radius_error[subpixel] = 1000 * std::abs(fit.radius - kRadius);
+    std::cout << "[ figure ] sphere r = 25 mm, subpixel " << subpixel << ": " << points.size()
+              << " points, fitted r = " << 1000 * fit.radius << " mm, rms "
+              << 1000 * fit.rms << " mm\n";
+  }
+  EXPECT_LE(radius_error[1], 0.5);
+}
+
+TEST(Triangulation, RejectsAStripeImageOfTheWrongSize) {
+  const sim::VirtualPair pair(test::pairLookingAlongX(), test::planeScene(1.0));
+  const Triangulator triangulator(pair.factoryCalibration());
+  std::vector<float> out(320 * 240 * 3);
+  try {
+    triangulator.triangulate(cv::Mat1f(240, 320, 0.f), out.data(), 3);
+    FAIL() << "size mismatch accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("640x480"), std::string::npos) << e.what();
+  }
+}

@@ -1,0 +1,98 @@
+#include <body_scan_driver/sim/virtual_pair.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <opencv2/core.hpp>
+#include <cmath>
+
+#include "sim_fixtures.h"
+
+using namespace body_scan;
+
+TEST(VirtualPair, StripePlanesDoNotShareOneLine) {
+  // A pinhole projector's planes all contain one line through its centre. Ours do not: the
+  // line where neighbouring planes meet moves as the mirror turns.
+  const sim::VirtualPair pair(test::pairLookingAlongX(), test::planeScene(1.0));
+  const auto& planes = pair.factoryCalibration().projector.planes;
+  auto meeting_point = [&](int i) {  // where planes i and i+1 cross the camera's y-z plane
+    Eigen::Matrix2d a;
+    a << planes[i][1], planes[i][2], planes[i + 1][1], planes[i + 1][2];
+    return Eigen::Vector2d(a.inverse() * Eigen::Vector2d(-planes[i][3], -planes[i + 1][3]));
+  };
+  const double moved = (meeting_point(0) - meeting_point(254)).norm();
+  std::cout << "[ figure ] the planes' meeting line moves by " << 1000 * moved
+            << " mm across the sweep\n";
+  EXPECT_GT(moved, 0.005);
+}
+
+TEST(VirtualPair, FactoryCalibrationContainsTheTruePoints) {
+  const sim::VirtualPair pair(test::pairLookingAlongX(0.0), test::planeScene(1.1));
+  const sim::RenderedPatternSet set = pair.render();
+  const StripePlaneProjector projector = pair.factoryCalibration().projector;
+  double worst = 0;
+  int checked = 0;
+  for (int v = 0; v < 480; v += 7)
+    for (int u = 0; u < 640; u += 7) {
+      const float s = set.truth.stripe(v, u);
+      if (std::isnan(s)) continue;
+      const cv::Vec3f p = set.truth.points(v, u);
+      const Eigen::Vector4d plane = projector.planeAt(s);
+      const double distance =
+          std::abs(plane.head<3>().dot(Eigen::Vector3d(p[0], p[1], p[2])) + plane[3]) /
+          plane.head<3>().norm();
+      worst = std::max(worst, distance);
+      ++checked;
+    }
+  EXPECT_GT(checked, 5000);
+  EXPECT_LT(worst, 20e-6);  // plane interpolation between stripe centres: micrometres
+}
+
+TEST(VirtualPair, ObjectsCastShadowsFromTheProjector) {
+  // A ball 30 cm in front of a wall: the projector, 330 mm above the camera, throws its shadow
+  // on the wall below the ball, where nothing may decode.
+  auto scene = test::planeScene(1.2);
+  scene->add(std::make_unique<sim::Sphere>(Eigen::Vector3d(0.9, 0, 0), 0.06, sim::Material{}));
+  const sim::VirtualPair pair(test::pairLookingAlongX(), scene);
+  const sim::RenderedPatternSet set = pair.render();
+  int shadowed_wall = 0;
+  for (int v = 0; v < 480; ++v) {
+    const cv::Vec3f p = set.truth.points(v, 320);
+    if (std::abs(p[2] - 1.2f) < 1e-3f && std::isnan(set.truth.stripe(v, 320))) ++shadowed_wall;
+  }
+  // The shadow's height on the wall is about the ball's diameter scaled by 1.2 / 0.9 - 0.33 m
+  // parallax: tens of pixels.
+  EXPECT_GT(shadowed_wall, 20);
+  // Ambient light only there: lit and dark frames nearly equal.
+  int v = 0;
+  while (v < 480 && !(std::abs(set.truth.points(v, 320)[2] - 1.2f) < 1e-3f &&
+                      std::isnan(set.truth.stripe(v, 320))))
+    ++v;
+  ASSERT_LT(v, 480);
+  EXPECT_LT(std::abs(set.frames[0].at<uint8_t>(v, 320) - set.frames[1].at<uint8_t>(v, 320)), 10);
+}
+
+TEST(VirtualPair, RenderingIsDeterministicPerSeedAndScan) {
+  const sim::VirtualPair pair(test::pairLookingAlongX(), test::planeScene(1.0));
+  const auto start = std::chrono::steady_clock::now();
+  const sim::RenderedPatternSet first = pair.render(4);
+  std::cout << "[ figure ] one 18-frame 640x480 render: "
+            << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                   .count()
+            << " ms (benchmarked in bench_decode_triangulate)\n";
+  const sim::RenderedPatternSet again = pair.render(4);
+  const sim::RenderedPatternSet other = pair.render(5);
+  ASSERT_EQ(first.frames.size(), 18u);
+  for (size_t f = 0; f < first.frames.size(); ++f)
+    EXPECT_EQ(cv::norm(first.frames[f], again.frames[f], cv::NORM_INF), 0.0) << f;
+  EXPECT_GT(cv::norm(first.frames[5], other.frames[5], cv::NORM_L1), 0.0);
+  // Sensor noise has the documented sigma: lit minus dark frame differences on a flat plane
+  // vary by about sqrt(2) * 2 grey levels between neighbouring pixels.
+  cv::Mat1f difference;
+  cv::Mat(first.frames[1]).convertTo(difference, CV_32F);
+  cv::Mat1f neighbour = difference(cv::Rect(1, 0, 639, 480)) - difference(cv::Rect(0, 0, 639, 480));
+  cv::Scalar mean, deviation;
+  cv::meanStdDev(neighbour, mean, deviation);
+  // Blur (0.7 px) correlates neighbours, so the difference is below 2 * sqrt(2).
+  EXPECT_GT(deviation[0], 1.0);
+  EXPECT_LT(deviation[0], 2.9);
+}
