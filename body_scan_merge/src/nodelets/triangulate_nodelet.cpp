@@ -1,0 +1,162 @@
+// Triangulate: pattern_set -> points (organized PointCloud2 xyz + rgb) + stripe_image.
+// Decoding and triangulation are body_scan_driver's core functions; this is the ROS wrapper.
+#include <body_scan_driver/calibration_file.h>
+#include <body_scan_driver/stripe_decoder.h>
+#include <body_scan_driver/triangulation.h>
+#include <body_scan_msgs/PatternSet.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <pluginlib/class_list_macros.hpp>
+
+namespace body_scan {
+namespace {
+
+// A cv::Mat header over an image message's bytes (no copy); nullopt if the encoding differs.
+std::optional<cv::Mat> view(const sensor_msgs::Image& image, const std::string& encoding,
+                            int type) {
+  if (image.encoding != encoding || image.data.size() < static_cast<size_t>(image.step) * image.height)
+    return std::nullopt;
+  return cv::Mat(image.height, image.width, type, const_cast<uint8_t*>(image.data.data()),
+                 image.step);
+}
+
+float packRgb(uint8_t r, uint8_t g, uint8_t b) {  // PCL's packed-float rgb field
+  const uint32_t packed = (static_cast<uint32_t>(r) << 16) | (static_cast<uint32_t>(g) << 8) | b;
+  float value;
+  std::memcpy(&value, &packed, sizeof value);
+  return value;
+}
+
+}  // namespace
+
+class TriangulateNodelet : public nodelet::Nodelet {
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    calibration_file_ = pnh.param<std::string>("calibration_file", "");
+    params_.subpixel = pnh.param("subpixel", true);
+    params_.min_contrast = pnh.param("min_contrast", params_.min_contrast);
+    params_.edge_contrast_ratio = pnh.param("edge_contrast_ratio", params_.edge_contrast_ratio);
+    min_range_ = pnh.param("min_range", 0.2);
+    max_range_ = pnh.param("max_range", 5.0);
+    points_pub_ = nh.advertise<sensor_msgs::PointCloud2>("points", 2);
+    stripe_pub_ = nh.advertise<sensor_msgs::Image>("stripe_image", 2);
+    pattern_sub_ = nh.subscribe("pattern_set", 2, &TriangulateNodelet::onPatternSet, this);
+    if (calibration_file_.empty())
+      NODELET_ERROR("~calibration_file is not set: point it at the pair's calibration YAML");
+  }
+
+  // Loads the calibration on first use, so a driver that writes its factory calibration at
+  // start-up may come up after this nodelet.
+  bool ensureCalibration(const std::string& pair_id) {
+    if (triangulator_) return true;
+    try {
+      triangulator_ = std::make_unique<Triangulator>(loadCalibration(calibration_file_),
+                                                     min_range_, max_range_);
+      NODELET_INFO("[%s] calibration loaded from %s (%s)", pair_id.c_str(),
+                   calibration_file_.c_str(), triangulator_->calibration().source.c_str());
+      return true;
+    } catch (const std::exception& e) {
+      NODELET_ERROR_THROTTLE(5.0, "[%s] %s", pair_id.c_str(), e.what());
+      return false;
+    }
+  }
+
+  void onPatternSet(const body_scan_msgs::PatternSet::ConstPtr& set) {
+    const std::string& pair = set->pair_id;
+    if (set->scheme != "gray") {
+      NODELET_ERROR_THROTTLE(5.0, "[%s] pattern scheme '%s' is not supported; the driver must "
+                             "send scheme 'gray'", pair.c_str(), set->scheme.c_str());
+      return;
+    }
+    std::vector<cv::Mat> frames;
+    for (size_t i = 0; i < set->frames.size(); ++i) {
+      const auto frame = view(set->frames[i], sensor_msgs::image_encodings::MONO8, CV_8UC1);
+      if (!frame) {
+        NODELET_ERROR_THROTTLE(5.0, "[%s] frame %zu has encoding '%s' or a short buffer; "
+                               "pattern frames must be complete mono8 images", pair.c_str(), i,
+                               set->frames[i].encoding.c_str());
+        return;
+      }
+      frames.push_back(*frame);
+    }
+    if (!ensureCalibration(pair)) return;
+    try {
+      if (!decoder_ || decoder_->layout().bits() != set->bits ||
+          decoder_->layout().inverseFrames() != set->inverse_frames)
+        decoder_ = std::make_unique<StripeDecoder>(PatternLayout(set->bits, set->inverse_frames),
+                                                   params_);
+      decoder_->decode(frames, stripes_);
+      publish(*set, frames[0].size());
+    } catch (const std::exception& e) {
+      NODELET_ERROR_THROTTLE(5.0, "[%s] scan %u not triangulated: %s", pair.c_str(),
+                             set->scan_id, e.what());
+    }
+  }
+
+  void publish(const body_scan_msgs::PatternSet& set, const cv::Size& size) {
+    sensor_msgs::PointCloud2Ptr cloud(new sensor_msgs::PointCloud2);
+    cloud->header = set.header;
+    cloud->height = size.height;
+    cloud->width = size.width;
+    const char* names[] = {"x", "y", "z", "rgb"};
+    for (uint32_t i = 0; i < 4; ++i) {
+      sensor_msgs::PointField field;
+      field.name = names[i];
+      field.offset = 4 * i;
+      field.datatype = sensor_msgs::PointField::FLOAT32;
+      field.count = 1;
+      cloud->fields.push_back(field);
+    }
+    cloud->point_step = 16;
+    cloud->row_step = cloud->point_step * cloud->width;
+    cloud->is_dense = false;
+    cloud->is_bigendian = false;
+    cloud->data.resize(static_cast<size_t>(cloud->row_step) * cloud->height);
+    float* points = reinterpret_cast<float*>(cloud->data.data());
+    const size_t valid = triangulator_->triangulate(stripes_.coordinate, points, 4);
+    // Colour from the texture where it matches the frames, else white.
+    const auto texture = view(set.texture, sensor_msgs::image_encodings::RGB8, CV_8UC3);
+    const bool coloured = texture && texture->size() == size;
+    for (int v = 0; v < size.height; ++v)
+      for (int u = 0; u < size.width; ++u) {
+        const cv::Vec3b c = coloured ? texture->at<cv::Vec3b>(v, u) : cv::Vec3b(255, 255, 255);
+        points[4 * (static_cast<size_t>(v) * size.width + u) + 3] = packRgb(c[0], c[1], c[2]);
+      }
+    points_pub_.publish(cloud);
+    NODELET_DEBUG("[%s] scan %u: %zu points", set.pair_id.c_str(), set.scan_id, valid);
+
+    if (stripe_pub_.getNumSubscribers() > 0) {
+      sensor_msgs::ImagePtr image(new sensor_msgs::Image);
+      image->header = set.header;
+      image->height = size.height;
+      image->width = size.width;
+      image->encoding = sensor_msgs::image_encodings::TYPE_32FC1;
+      image->step = static_cast<uint32_t>(size.width * sizeof(float));
+      image->data.resize(static_cast<size_t>(image->step) * size.height);
+      cv::Mat(size, CV_32FC1, image->data.data()) = stripes_.coordinate * 1.f;
+      stripe_pub_.publish(image);
+    }
+  }
+
+  std::string calibration_file_;
+  DecoderParams params_;
+  double min_range_ = 0.2, max_range_ = 5.0;
+  std::unique_ptr<Triangulator> triangulator_;
+  std::unique_ptr<StripeDecoder> decoder_;
+  StripeImage stripes_;
+  ros::Publisher points_pub_, stripe_pub_;
+  ros::Subscriber pattern_sub_;
+};
+
+}  // namespace body_scan
+
+PLUGINLIB_EXPORT_CLASS(body_scan::TriangulateNodelet, nodelet::Nodelet)

@@ -1,0 +1,119 @@
+#include <body_scan_driver/calibration_file.h>
+#include <body_scan_driver/ros/conversions.h>
+#include <body_scan_driver/sim/virtual_pair.h>
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+
+using namespace body_scan;
+
+namespace {
+
+class TriangulateNode : public testing::Test {
+ protected:
+  void SetUp() override {
+    calibration_file_ = ros::NodeHandle("~").param<std::string>("calibration_file", "");
+    std::remove(calibration_file_.c_str());
+    auto scene = std::make_shared<sim::Scene>();
+    scene->add(std::make_unique<sim::Plane>(Eigen::Vector3d(1.0, 0, 0), Eigen::Vector3d(-1, 0, 0),
+                                            sim::Material{0.8, {0.8, 0.8, 0.8}}));
+    sim::VirtualPairConfig config;
+    config.world_from_camera = sim::cameraPose({0, 0, 0}, 0, 0);
+    pair_ = std::make_unique<sim::VirtualPair>(config, scene);
+    const sim::RenderedPatternSet rendered = pair_->render(1);
+    std_msgs::Header header;
+    header.frame_id = "test_camera_optical_frame";
+    good_ = toPatternSet({rendered.frames, rendered.texture}, pair_->layout(),
+                         pair_->config().camera, header, "test/pair", 1);
+    publisher_ = nh_.advertise<body_scan_msgs::PatternSet>("pattern_set", 4);
+    subscriber_ = nh_.subscribe("points", 4, &TriangulateNode::onCloud, this);
+    for (int i = 0; i < 50 && (publisher_.getNumSubscribers() == 0 ||
+                               subscriber_.getNumPublishers() == 0); ++i)
+      ros::WallDuration(0.1).sleep();
+    ASSERT_GT(publisher_.getNumSubscribers(), 0u) << "Triangulate did not subscribe";
+  }
+
+  // Publishes a set and waits up to `wait` seconds for a cloud; returns how many arrived.
+  int publishAndCount(const body_scan_msgs::PatternSet& set, double wait) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      clouds_ = 0;
+    }
+    publisher_.publish(set);
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wait);
+    while (ros::WallTime::now() < deadline) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (clouds_ > 0) break;
+      }
+      ros::WallDuration(0.05).sleep();
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    return clouds_;
+  }
+
+  void onCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++clouds_;
+    last_ = cloud;
+  }
+
+  ros::NodeHandle nh_;
+  ros::Publisher publisher_;
+  ros::Subscriber subscriber_;
+  std::string calibration_file_;
+  std::unique_ptr<sim::VirtualPair> pair_;
+  body_scan_msgs::PatternSetPtr good_;
+  std::mutex mutex_;
+  int clouds_ = 0;
+  sensor_msgs::PointCloud2::ConstPtr last_;
+};
+
+TEST_F(TriangulateNode, RejectsBadInputAndKeepsRunning) {
+  // No calibration file yet: nothing published.
+  EXPECT_EQ(publishAndCount(*good_, 1.5), 0);
+  saveCalibration(calibration_file_, pair_->factoryCalibration());
+
+  body_scan_msgs::PatternSet missing_frame = *good_;
+  missing_frame.frames.pop_back();
+  EXPECT_EQ(publishAndCount(missing_frame, 1.5), 0) << "17 frames triangulated";
+
+  body_scan_msgs::PatternSet wrong_encoding = *good_;
+  wrong_encoding.frames[4].encoding = "rgb8";
+  EXPECT_EQ(publishAndCount(wrong_encoding, 1.5), 0) << "rgb8 frame accepted";
+
+  body_scan_msgs::PatternSet wrong_scheme = *good_;
+  wrong_scheme.scheme = "phase_shift";
+  EXPECT_EQ(publishAndCount(wrong_scheme, 1.5), 0) << "unknown scheme accepted";
+
+  // Still alive: the good set gives the plane at z = 1 m.
+  ASSERT_EQ(publishAndCount(*good_, 10.0), 1);
+  std::lock_guard<std::mutex> lock(mutex_);
+  EXPECT_EQ(last_->header.frame_id, "test_camera_optical_frame");
+  EXPECT_EQ(last_->width, 640u);
+  EXPECT_EQ(last_->height, 480u);
+  long valid = 0;
+  double error = 0;
+  for (sensor_msgs::PointCloud2ConstIterator<float> it(*last_, "x"); it != it.end(); ++it)
+    if (std::isfinite(it[2])) {
+      ++valid;
+      error += std::abs(it[2] - 1.0);
+    }
+  EXPECT_GT(valid, 300000);
+  EXPECT_LT(1000 * error / valid, 1.0) << "mean |z - 1 m| in mm";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_triangulate_node");
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
