@@ -1,16 +1,22 @@
-// One 640x480 pattern set (8 bits + inverses + lit + dark = 18 frames) of a plane filling the
-// view (every pixel decodes: the worst case), single thread:
-//   DecodeTriangulate/ours             our decode (shadow mask, bits, subpixel) + triangulation
-//   DecodeTriangulate/opencv_getProjPixel  OpenCV structured_light decoding the same frames
-//   DecodeTriangulate/copy             a plain copy of the same bytes (memory-bound floor)
-//   RenderPatternSet                   the virtual pair rendering the set (2 threads)
-// scripts/bench_report.py turns the JSON into ratios against .../ours.
+// Decode + triangulate one 640x480 pattern set (8 bits + inverses + lit + dark = 18 frames),
+// single thread, three contenders on the same frames:
+//   .../ours                 our decoder (shadow mask, bits, subpixel) + triangulation
+//   .../opencv_getProjPixel  OpenCV structured_light decoding the same frames (no subpixel,
+//                            no triangulation)
+//   .../copy                 a plain copy of the same bytes (the memory-bound floor)
+// Scenes: "plane" fills the view (every pixel decodes: the worst case); "person" is the
+// single_pair scene. Cache: "hot" repeats one set (it stays in cache); "stream" cycles through
+// 8 sets (44 MB, more than the last-level cache), as pattern sets arriving from a camera do.
+// RenderPatternSet times the virtual pair (2 threads). scripts/bench_report.py prints the
+// ratios against .../ours.
 #include <benchmark/benchmark.h>
+#include <body_scan_driver/pair_device.h>
+#include <body_scan_driver/sim/virtual_pair.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
-#include <body_scan_driver/sim/virtual_pair.h>
 
 #include <cstring>
+#include <map>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/structured_light/graycodepattern.hpp>
 
@@ -18,35 +24,54 @@ using namespace body_scan;
 
 namespace {
 
-struct Fixture {
-  Fixture() {
-    auto scene = std::make_shared<sim::Scene>();
-    scene->add(std::make_unique<sim::Plane>(Eigen::Vector3d(1.0, 0, 0), Eigen::Vector3d(-1, 0, 0),
-                                            sim::Material{0.8, {0.8, 0.8, 0.8}}));
-    sim::VirtualPairConfig config;
-    config.world_from_camera = sim::cameraPose({0, 0, 0}, 0, 0);
-    pair = std::make_unique<sim::VirtualPair>(config, scene);
-    frames = pair->render(1).frames;
-  }
+constexpr int kStreamSets = 8;
+
+struct SceneSets {
   std::unique_ptr<sim::VirtualPair> pair;
-  std::vector<cv::Mat> frames;
+  std::vector<std::vector<cv::Mat>> sets;  // kStreamSets copies in separate memory
 };
 
-const Fixture& fixture() {
-  static const Fixture instance;
-  return instance;
+const SceneSets& scene(const std::string& name) {
+  static std::map<std::string, SceneSets> scenes;
+  SceneSets& entry = scenes[name];
+  if (entry.pair) return entry;
+  std::shared_ptr<sim::Scene> world;
+  sim::VirtualPairConfig config;
+  if (name == "plane") {
+    world = std::make_shared<sim::Scene>();
+    world->add(std::make_unique<sim::Plane>(Eigen::Vector3d(1.0, 0, 0), Eigen::Vector3d(-1, 0, 0),
+                                            sim::Material{0.8, {0.8, 0.8, 0.8}}));
+    config.world_from_camera = sim::cameraPose({0, 0, 0}, 0, 0);
+  } else {
+    world = std::make_shared<sim::Scene>(
+        sim::loadScene(BODY_SCAN_DRIVER_CONFIG_DIR "/scenes/standing_person.yaml"));
+    config = sim::loadVirtualPairConfig(BODY_SCAN_DRIVER_CONFIG_DIR "/pairs/default_pair.yaml");
+  }
+  entry.pair = std::make_unique<sim::VirtualPair>(config, world);
+  const std::vector<cv::Mat> frames = entry.pair->render(1).frames;
+  for (int i = 0; i < kStreamSets; ++i) {
+    std::vector<cv::Mat> copy;
+    for (const cv::Mat& frame : frames) copy.push_back(frame.clone());
+    entry.sets.push_back(std::move(copy));
+  }
+  return entry;
+}
+
+int setCount(const benchmark::State& state) { return state.range(1) ? kStreamSets : 1; }
+const char* sceneName(const benchmark::State& state) {
+  return state.range(0) ? "person" : "plane";
 }
 
 void ours(benchmark::State& state) {
   cv::setNumThreads(1);
-  const Fixture& f = fixture();
-  const StripeDecoder decoder(f.pair->layout());
-  const Triangulator triangulator(f.pair->factoryCalibration());
+  const SceneSets& s = scene(sceneName(state));
+  const StripeDecoder decoder(s.pair->layout());
+  const Triangulator triangulator(s.pair->factoryCalibration());
   StripeImage stripes;
   std::vector<float> cloud(640 * 480 * 4);
-  size_t valid = 0;
+  size_t valid = 0, next = 0;
   for (auto _ : state) {
-    decoder.decode(f.frames, stripes);
+    decoder.decode(s.sets[next++ % setCount(state)], stripes);
     valid = triangulator.triangulate(stripes.coordinate, cloud.data(), 4);
     benchmark::DoNotOptimize(cloud.data());
   }
@@ -55,13 +80,19 @@ void ours(benchmark::State& state) {
 
 void opencvGetProjPixel(benchmark::State& state) {
   cv::setNumThreads(1);
-  const Fixture& f = fixture();
+  const SceneSets& s = scene(sceneName(state));
   // 256 x 2 projector: x from our 8 pattern/inverse pairs, a 1-bit y from a repeated pair.
   auto opencv = cv::structured_light::GrayCodePattern::create(256, 2);
-  std::vector<cv::Mat> frames(f.frames.begin() + 2, f.frames.end());
-  frames.insert(frames.end(), f.frames.begin() + 2, f.frames.begin() + 4);
+  std::vector<std::vector<cv::Mat>> sets;
+  for (const auto& set : s.sets) {
+    std::vector<cv::Mat> frames(set.begin() + 2, set.end());
+    frames.insert(frames.end(), set.begin() + 2, set.begin() + 4);
+    sets.push_back(std::move(frames));
+  }
   cv::Mat1w stripe(480, 640);
+  size_t next = 0;
   for (auto _ : state) {
+    const std::vector<cv::Mat>& frames = sets[next++ % setCount(state)];
     cv::Point projector_pixel;
     for (int v = 0; v < 480; ++v)
       for (int u = 0; u < 640; ++u) {
@@ -73,33 +104,57 @@ void opencvGetProjPixel(benchmark::State& state) {
 }
 
 void copy(benchmark::State& state) {
-  const Fixture& f = fixture();
+  const SceneSets& s = scene(sceneName(state));
   const size_t frame_bytes = 640 * 480;
-  std::vector<uint8_t> destination(frame_bytes * f.frames.size());
+  std::vector<uint8_t> destination(frame_bytes * s.sets[0].size());
+  size_t next = 0;
   for (auto _ : state) {
-    for (size_t i = 0; i < f.frames.size(); ++i)
-      std::memcpy(destination.data() + i * frame_bytes, f.frames[i].data, frame_bytes);
+    const std::vector<cv::Mat>& frames = s.sets[next++ % setCount(state)];
+    for (size_t i = 0; i < frames.size(); ++i)
+      std::memcpy(destination.data() + i * frame_bytes, frames[i].data, frame_bytes);
     benchmark::DoNotOptimize(destination.data());
     benchmark::ClobberMemory();
   }
-  state.SetBytesProcessed(static_cast<int64_t>(state.iterations() * destination.size()));
 }
 
 void render(benchmark::State& state) {
   cv::setNumThreads(2);
-  const Fixture& f = fixture();
+  const SceneSets& s = scene(sceneName(state));
   uint32_t scan = 2;
-  for (auto _ : state) benchmark::DoNotOptimize(f.pair->render(scan++).frames.data());
+  for (auto _ : state) benchmark::DoNotOptimize(s.pair->render(scan++).frames.data());
+}
+
+void registerAll() {
+  for (int person : {0, 1})
+    for (int stream : {0, 1}) {
+      const std::string group = std::string("DecodeTriangulate/") + (person ? "person" : "plane") +
+                                (stream ? "/stream" : "/hot");
+      benchmark::RegisterBenchmark((group + "/ours").c_str(), ours)
+          ->Args({person, stream})
+          ->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark((group + "/opencv_getProjPixel").c_str(), opencvGetProjPixel)
+          ->Args({person, stream})
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(16);
+      benchmark::RegisterBenchmark((group + "/copy").c_str(), copy)
+          ->Args({person, stream})
+          ->Unit(benchmark::kMillisecond);
+    }
+  for (int person : {0, 1})
+    benchmark::RegisterBenchmark(person ? "RenderPatternSet/person" : "RenderPatternSet/plane",
+                                 render)
+        ->Args({person, 0})
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->Iterations(10);
 }
 
 }  // namespace
 
-BENCHMARK(ours)->Name("DecodeTriangulate/ours")->Unit(benchmark::kMillisecond);
-BENCHMARK(opencvGetProjPixel)
-    ->Name("DecodeTriangulate/opencv_getProjPixel")
-    ->Unit(benchmark::kMillisecond)
-    ->MinTime(2.0);
-BENCHMARK(copy)->Name("DecodeTriangulate/copy")->Unit(benchmark::kMillisecond);
-BENCHMARK(render)->Name("RenderPatternSet")->Unit(benchmark::kMillisecond)->UseRealTime();
-
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  registerAll();
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

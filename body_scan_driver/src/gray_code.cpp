@@ -4,12 +4,6 @@
 
 namespace body_scan {
 
-uint32_t grayDecode(uint32_t gray) {
-  // Prefix XOR from the most significant bit down (Table 4.1, "decoding").
-  for (uint32_t shift = 1; shift < 32; shift <<= 1) gray ^= gray >> shift;
-  return gray;
-}
-
 PatternLayout::PatternLayout(int bits, bool inverse_frames)
     : bits_(bits), inverse_frames_(inverse_frames) {
   if (bits < kMinBits || bits > kMaxBits)

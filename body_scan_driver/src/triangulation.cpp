@@ -1,11 +1,52 @@
 #include <body_scan_driver/triangulation.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
 namespace body_scan {
+
+namespace {
+
+// The per-pixel loop over plain arrays (kept free of members so the compiler sees no aliasing).
+size_t triangulateRows(const float* coordinates, size_t coordinate_step, int width, int height,
+                       const float* rays_x, const float* rays_y, const float* planes,
+                       const float* deltas, int stripe_count, float min_range, float max_range,
+                       float* out, size_t point_stride) {
+  constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+  const int last_lower = stripe_count - 2;
+  size_t valid = 0;
+  for (int v = 0; v < height; ++v) {
+    const float* s = coordinates + static_cast<size_t>(v) * coordinate_step;
+    const size_t row = static_cast<size_t>(v) * width;
+    const float* ray_x = rays_x + row;
+    const float* ray_y = rays_y + row;
+    float* points = out + row * point_stride;
+    for (int u = 0; u < width; ++u) {
+      // Plane i sits at the stripe centre s = i + 0.5; interpolate between neighbours. NaN
+      // coordinates fail the range test at the end (every comparison with NaN is false).
+      const float position = s[u] - 0.5f;
+      const int lower = std::clamp(static_cast<int>(position), 0, last_lower);
+      const float f = position - static_cast<float>(lower);
+      const float* p = planes + 4 * lower;
+      const float* dp = deltas + 4 * lower;
+      const float a = p[0] + f * dp[0], b = p[1] + f * dp[1];
+      const float c = p[2] + f * dp[2], d = p[3] + f * dp[3];
+      const float z = -d / (a * ray_x[u] + b * ray_y[u] + c);  // eq 3.12 for a general plane
+      const bool in_range = z > min_range && z < max_range && position > -1.f;
+      float* point = points + u * point_stride;
+      point[0] = in_range ? ray_x[u] * z : kNaN;  // eq 3.10
+      point[1] = in_range ? ray_y[u] * z : kNaN;  // eq 3.11
+      point[2] = in_range ? z : kNaN;
+      valid += in_range;
+    }
+  }
+  return valid;
+}
+
+}  // namespace
 
 Triangulator::Triangulator(const PairCalibration& calibration, double min_range, double max_range)
     : calibration_(calibration),
@@ -23,8 +64,14 @@ Triangulator::Triangulator(const PairCalibration& calibration, double min_range,
       ray_x_[static_cast<size_t>(v) * camera.width + u] = static_cast<float>(ray.x());
       ray_y_[static_cast<size_t>(v) * camera.width + u] = static_cast<float>(ray.y());
     }
-  for (const Eigen::Vector4d& plane : calibration.projector.planes)
-    for (int i = 0; i < 4; ++i) planes_.push_back(static_cast<float>(plane[i]));
+  const auto& planes = calibration.projector.planes;
+  for (size_t k = 0; k < planes.size(); ++k)
+    for (int i = 0; i < 4; ++i) {
+      planes_.push_back(static_cast<float>(planes[k][i]));
+      plane_deltas_.push_back(k + 1 < planes.size()
+                                  ? static_cast<float>(planes[k + 1][i] - planes[k][i])
+                                  : 0.f);
+    }
 }
 
 size_t Triangulator::triangulate(const cv::Mat1f& coordinate, float* out,
@@ -36,39 +83,11 @@ size_t Triangulator::triangulate(const cv::Mat1f& coordinate, float* out,
         std::to_string(coordinate.rows) + " but the calibration of '" + calibration_.pair_id +
         "' is for " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
         ": use the calibration file of this camera and resolution");
-  constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-  const int last_lower = calibration_.projector.stripeCount() - 2;
-  size_t valid = 0;
-  for (int v = 0; v < camera.height; ++v) {
-    const float* s = coordinate.ptr<float>(v);
-    const size_t row = static_cast<size_t>(v) * camera.width;
-    for (int u = 0; u < camera.width; ++u) {
-      float* point = out + (row + u) * point_stride;
-      // Plane i sits at the stripe centre s = i + 0.5; interpolate between neighbours.
-      const float position = s[u] - 0.5f;
-      if (!(position > -1.f)) {  // also rejects NaN
-        point[0] = point[1] = point[2] = kNaN;
-        continue;
-      }
-      int lower = static_cast<int>(position);
-      lower = lower > last_lower ? last_lower : lower;
-      const float f = position - static_cast<float>(lower);
-      const float* p = &planes_[4 * static_cast<size_t>(lower)];
-      const float a = p[0] + f * (p[4] - p[0]), b = p[1] + f * (p[5] - p[1]);
-      const float c = p[2] + f * (p[6] - p[2]), d = p[3] + f * (p[7] - p[3]);
-      const float x = ray_x_[row + u], y = ray_y_[row + u];
-      const float z = -d / (a * x + b * y + c);  // eq 3.12 for a general plane
-      if (z > min_range_ && z < max_range_) {
-        point[0] = x * z;  // eq 3.10
-        point[1] = y * z;  // eq 3.11
-        point[2] = z;
-        ++valid;
-      } else {
-        point[0] = point[1] = point[2] = kNaN;
-      }
-    }
-  }
-  return valid;
+  return triangulateRows(coordinate.ptr<float>(), coordinate.step1(), camera.width,
+                                 camera.height, ray_x_.data(), ray_y_.data(), planes_.data(),
+                                 plane_deltas_.data(), calibration_.projector.stripeCount(),
+                                 min_range_, max_range_, out, point_stride);
 }
+
 
 }  // namespace body_scan

@@ -14,7 +14,16 @@ constexpr int kMaxBits = 10;
 
 // Reflected binary Gray code: adjacent stripes differ in exactly one bit.
 inline uint32_t grayEncode(uint32_t stripe) { return stripe ^ (stripe >> 1); }
-uint32_t grayDecode(uint32_t gray);
+// Prefix XOR from the most significant bit down (Table 4.1, "decoding"); branch-free, so
+// loops over pixels vectorize.
+inline uint32_t grayDecode(uint32_t gray) {
+  gray ^= gray >> 1;
+  gray ^= gray >> 2;
+  gray ^= gray >> 4;
+  gray ^= gray >> 8;
+  gray ^= gray >> 16;
+  return gray;
+}
 
 // Frame order of a pattern set (also documented in body_scan_msgs/PatternSet.msg):
 //   0: all stripes lit, 1: all dark, then per bit b (0 = most significant):

@@ -41,6 +41,8 @@ struct StripeImage {
   cv::Mat1f coordinate;  // stripe i spans [i, i+1); NaN where not decoded
 };
 
+// Not safe to call decode() on one decoder from two threads at once (it keeps scratch
+// buffers between calls so that a stream of pattern sets allocates nothing).
 class StripeDecoder {
  public:
   StripeDecoder(const PatternLayout& layout, const DecoderParams& params = {});
@@ -53,19 +55,20 @@ class StripeDecoder {
   const DecoderParams& params() const { return params_; }
 
  private:
+  struct FrameRows;  // per-bit frame pointers of one pattern set
   void decodeIntegers(const std::vector<cv::Mat>& frames, StripeImage& out) const;
-  void interpolateBoundaries(const std::vector<cv::Mat>& frames, bool along_rows,
-                             StripeImage& out) const;
-  void writeCentres(StripeImage& out) const;
-  // Signed signal of one bit at a pixel, zero on the bit's edge: pattern - inverse, or
-  // 2 pattern - (lit + dark) without inverse frames.
-  float bitSignal(const std::vector<cv::Mat>& frames, int bit, int u, int v) const;
-  uint16_t breakTies(const std::vector<cv::Mat>& frames, int u, int v) const;
+  template <bool kAlongRows>
+  void interpolateBoundaries(const FrameRows& rows, StripeImage& out) const;
+  bool stripesChangeAlongRows(const StripeImage& out) const;
+  void countBrightNeighbours() const;
+  uint16_t breakTies(const FrameRows& rows, uint16_t code, size_t index, int u, int v, int cols,
+                     int rows_count) const;
 
   PatternLayout layout_;
   DecoderParams params_;
-  int edge_ratio_q8_;  // edge_contrast_ratio in 1/256 units, for integer arithmetic
-  std::vector<uint16_t> gray_to_stripe_;
+  int edge_ratio_q8_;                      // edge_contrast_ratio in 1/256 units
+  std::vector<uint8_t> bit_between_;       // stripe k -> the bit that flips between k and k+1
+  mutable cv::Mat contrast_, neighbourhood_max_, bright_, horizontal_sum_, bright_around_;
 };
 
 // Throws std::invalid_argument unless frames match the layout (count, type, equal sizes).

@@ -28,6 +28,7 @@ class Triangulator {
   float min_range_, max_range_;
   std::vector<float> ray_x_, ray_y_;  // ideal normalized coordinates per pixel
   std::vector<float> planes_;         // stripe planes, 4 floats each
+  std::vector<float> plane_deltas_;   // planes_[i + 1] - planes_[i], for interpolation
 };
 
 }  // namespace body_scan
