@@ -10,37 +10,51 @@ namespace body_scan {
 
 namespace {
 
-// The per-pixel loop over plain arrays (kept free of members so the compiler sees no aliasing).
+// The per-pixel work over plain arrays, in three loops per row so that the division runs on
+// whole vectors: (1) gather each pixel's interpolated plane (scalar), (2) divide and range-check
+// (vectorized; NaN marks invalid pixels), (3) scale the rays (NaN propagates, no branches).
 size_t triangulateRows(const float* coordinates, size_t coordinate_step, int width, int height,
                        const float* rays_x, const float* rays_y, const float* planes,
                        const float* deltas, int stripe_count, float min_range, float max_range,
                        float* out, size_t point_stride) {
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   const int last_lower = stripe_count - 2;
+  std::vector<float> buffers(3 * static_cast<size_t>(width));
+  float* __restrict numerator = buffers.data();
+  float* __restrict denominator = numerator + width;
+  float* __restrict depth = denominator + width;
   size_t valid = 0;
   for (int v = 0; v < height; ++v) {
     const float* s = coordinates + static_cast<size_t>(v) * coordinate_step;
     const size_t row = static_cast<size_t>(v) * width;
-    const float* ray_x = rays_x + row;
-    const float* ray_y = rays_y + row;
-    float* points = out + row * point_stride;
+    const float* __restrict ray_x = rays_x + row;
+    const float* __restrict ray_y = rays_y + row;
     for (int u = 0; u < width; ++u) {
-      // Plane i sits at the stripe centre s = i + 0.5; interpolate between neighbours. NaN
-      // coordinates fail the range test at the end (every comparison with NaN is false).
+      // Plane i sits at the stripe centre s = i + 0.5; interpolate between neighbours. A NaN
+      // coordinate gives a NaN plane and so a NaN depth.
       const float position = s[u] - 0.5f;
       const int lower = std::clamp(static_cast<int>(position), 0, last_lower);
       const float f = position - static_cast<float>(lower);
       const float* p = planes + 4 * lower;
       const float* dp = deltas + 4 * lower;
-      const float a = p[0] + f * dp[0], b = p[1] + f * dp[1];
-      const float c = p[2] + f * dp[2], d = p[3] + f * dp[3];
-      const float z = -d / (a * ray_x[u] + b * ray_y[u] + c);  // eq 3.12 for a general plane
-      const bool in_range = z > min_range && z < max_range && position > -1.f;
+      denominator[u] =
+          (p[0] + f * dp[0]) * ray_x[u] + (p[1] + f * dp[1]) * ray_y[u] + (p[2] + f * dp[2]);
+      numerator[u] = -(p[3] + f * dp[3]);
+    }
+    int row_valid = 0;
+    for (int u = 0; u < width; ++u) {
+      const float z = numerator[u] / denominator[u];  // eq 3.12 for a general plane
+      const int in_range = (z > min_range) & (z < max_range);  // 0 for NaN
+      depth[u] = in_range ? z : kNaN;
+      row_valid += in_range;
+    }
+    valid += static_cast<size_t>(row_valid);
+    float* points = out + row * point_stride;
+    for (int u = 0; u < width; ++u) {
       float* point = points + u * point_stride;
-      point[0] = in_range ? ray_x[u] * z : kNaN;  // eq 3.10
-      point[1] = in_range ? ray_y[u] * z : kNaN;  // eq 3.11
-      point[2] = in_range ? z : kNaN;
-      valid += in_range;
+      point[0] = ray_x[u] * depth[u];  // eq 3.10
+      point[1] = ray_y[u] * depth[u];  // eq 3.11
+      point[2] = depth[u];
     }
   }
   return valid;

@@ -14,14 +14,16 @@ constexpr int kMaxBits = 10;
 
 // Reflected binary Gray code: adjacent stripes differ in exactly one bit.
 inline uint32_t grayEncode(uint32_t stripe) { return stripe ^ (stripe >> 1); }
-// Prefix XOR from the most significant bit down (Table 4.1, "decoding"); branch-free, so
-// loops over pixels vectorize.
-inline uint32_t grayDecode(uint32_t gray) {
-  gray ^= gray >> 1;
-  gray ^= gray >> 2;
-  gray ^= gray >> 4;
-  gray ^= gray >> 8;
-  gray ^= gray >> 16;
+// Prefix XOR from the most significant bit down (Table 4.1, "decoding"). Branch-free and
+// generic in the width, so loops over uint16_t pixels vectorize in 16-bit lanes.
+template <typename Unsigned>
+constexpr Unsigned grayDecode(Unsigned gray) {
+  static_assert(sizeof(Unsigned) <= 4, "up to 32-bit codes");
+  gray = static_cast<Unsigned>(gray ^ (gray >> 1));
+  gray = static_cast<Unsigned>(gray ^ (gray >> 2));
+  gray = static_cast<Unsigned>(gray ^ (gray >> 4));
+  if constexpr (sizeof(Unsigned) > 1) gray = static_cast<Unsigned>(gray ^ (gray >> 8));
+  if constexpr (sizeof(Unsigned) > 2) gray = static_cast<Unsigned>(gray ^ (gray >> 16));
   return gray;
 }
 
