@@ -58,9 +58,7 @@ const SceneSets& scene(const std::string& name) {
 }
 
 int setCount(const benchmark::State& state) { return state.range(1) ? kStreamSets : 1; }
-const char* sceneName(const benchmark::State& state) {
-  return state.range(0) ? "person" : "plane";
-}
+const char* sceneName(const benchmark::State& state) { return state.range(0) ? "person" : "plane"; }
 
 void ours(benchmark::State& state) {
   cv::setNumThreads(1);

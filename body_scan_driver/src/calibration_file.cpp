@@ -1,11 +1,11 @@
 #include <body_scan_driver/calibration_file.h>
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 namespace body_scan {
 namespace {
@@ -68,13 +68,15 @@ PairCalibration loadCalibration(const std::string& path) {
                                    "and k3 coefficients must be 0");
     const YAML::Node planes = root["projector"]["planes"];
     if (!planes || !planes.IsSequence() || planes.size() < 2)
-      throw CalibrationFileError("calibration file '" + path +
-                                 "' has no 'projector: planes:' list (one [a, b, c, d] per stripe)");
+      throw CalibrationFileError(
+          "calibration file '" + path +
+          "' has no 'projector: planes:' list (one [a, b, c, d] per stripe)");
     for (const YAML::Node& plane : planes) {
       const std::vector<double> p = plane.as<std::vector<double>>();
       if (p.size() != 4 || !std::isfinite(p[0] + p[1] + p[2] + p[3]))
-        throw CalibrationFileError("calibration file '" + path +
-                                   "': every projector plane must be 4 finite numbers [a, b, c, d]");
+        throw CalibrationFileError(
+            "calibration file '" + path +
+            "': every projector plane must be 4 finite numbers [a, b, c, d]");
       calibration.projector.planes.emplace_back(p[0], p[1], p[2], p[3]);
     }
     const int declared = root["projector"]["stripe_count"].as<int>(-1);

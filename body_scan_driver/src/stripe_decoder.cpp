@@ -53,19 +53,18 @@ void checkFrames(const PatternLayout& layout, const std::vector<cv::Mat>& frames
       throw std::invalid_argument("frame " + std::to_string(i) +
                                   " is not 8-bit single channel (mono8); convert it first");
     if (frames[i].size() != frames[0].size() || frames[i].step != frames[0].step)
-      throw std::invalid_argument("frame " + std::to_string(i) + " is " +
-                                  std::to_string(frames[i].cols) + "x" +
-                                  std::to_string(frames[i].rows) + " but frame 0 is " +
-                                  std::to_string(frames[0].cols) + "x" +
-                                  std::to_string(frames[0].rows) +
-                                  " (all frames must have one size and row step)");
+      throw std::invalid_argument(
+          "frame " + std::to_string(i) + " is " + std::to_string(frames[i].cols) + "x" +
+          std::to_string(frames[i].rows) + " but frame 0 is " + std::to_string(frames[0].cols) +
+          "x" + std::to_string(frames[0].rows) + " (all frames must have one size and row step)");
   }
 }
 
 StripeDecoder::StripeDecoder(const PatternLayout& layout, const DecoderParams& params)
     : layout_(layout),
       params_(params),
-      edge_ratio_q8_(static_cast<int>(std::lround(256 * std::clamp(params.edge_contrast_ratio, 0.0, 1.0)))),
+      edge_ratio_q8_(
+          static_cast<int>(std::lround(256 * std::clamp(params.edge_contrast_ratio, 0.0, 1.0)))),
       bit_between_(layout.stripeCount()) {
   for (uint32_t stripe = 0; stripe + 1 < bit_between_.size(); ++stripe)
     bit_between_[stripe] = static_cast<uint8_t>(layout.bitBetween(stripe));
@@ -171,8 +170,7 @@ void StripeDecoder::decodeIntegers(const std::vector<cv::Mat>& frames, StripeIma
     if (any_tie)
       for (int u = 0; u < cols; ++u)
         if (tied[u] & valid[u]) code[u] = breakTies(frame_rows, code[u], row + u, u, v, cols, rows);
-    for (int u = 0; u < cols; ++u)
-      code[u] = valid[u] ? grayDecode(code[u]) : kInvalidStripe;
+    for (int u = 0; u < cols; ++u) code[u] = valid[u] ? grayDecode(code[u]) : kInvalidStripe;
     // Stripe centres until the subpixel pass refines them.
     for (int u = 0; u < cols; ++u) {
       const float centre = static_cast<float>(static_cast<int32_t>(code[u])) + 0.5f;
@@ -207,8 +205,8 @@ void StripeDecoder::countBrightNeighbours() const {
   }
 }
 
-uint16_t StripeDecoder::breakTies(const FrameRows& rows, uint16_t code, size_t index, int u,
-                                  int v, int cols, int rows_count) const {
+uint16_t StripeDecoder::breakTies(const FrameRows& rows, uint16_t code, size_t index, int u, int v,
+                                  int cols, int rows_count) const {
   // A pixel whose bit signal is exactly 0 sits on that bit's edge (within 8-bit quantization).
   // The neighbour on the pixel's own side is a little farther from the edge, so its signal is
   // larger: the sign of the neighbours' sum tells the side.

@@ -43,7 +43,7 @@ size_t triangulateRows(const float* coordinates, size_t coordinate_step, int wid
     }
     int row_valid = 0;
     for (int u = 0; u < width; ++u) {
-      const float z = numerator[u] / denominator[u];  // eq 3.12 for a general plane
+      const float z = numerator[u] / denominator[u];           // eq 3.12 for a general plane
       const int in_range = (z > min_range) & (z < max_range);  // 0 for NaN
       depth[u] = in_range ? z : kNaN;
       row_valid += in_range;
@@ -82,9 +82,8 @@ Triangulator::Triangulator(const PairCalibration& calibration, double min_range,
   for (size_t k = 0; k < planes.size(); ++k)
     for (int i = 0; i < 4; ++i) {
       planes_.push_back(static_cast<float>(planes[k][i]));
-      plane_deltas_.push_back(k + 1 < planes.size()
-                                  ? static_cast<float>(planes[k + 1][i] - planes[k][i])
-                                  : 0.f);
+      plane_deltas_.push_back(
+          k + 1 < planes.size() ? static_cast<float>(planes[k + 1][i] - planes[k][i]) : 0.f);
     }
 }
 
@@ -92,16 +91,15 @@ size_t Triangulator::triangulate(const cv::Mat1f& coordinate, float* out,
                                  size_t point_stride) const {
   const PinholeCamera& camera = calibration_.camera;
   if (coordinate.cols != camera.width || coordinate.rows != camera.height)
-    throw std::invalid_argument(
-        "stripe image is " + std::to_string(coordinate.cols) + "x" +
-        std::to_string(coordinate.rows) + " but the calibration of '" + calibration_.pair_id +
-        "' is for " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
-        ": use the calibration file of this camera and resolution");
-  return triangulateRows(coordinate.ptr<float>(), coordinate.step1(), camera.width,
-                                 camera.height, ray_x_.data(), ray_y_.data(), planes_.data(),
-                                 plane_deltas_.data(), calibration_.projector.stripeCount(),
-                                 min_range_, max_range_, out, point_stride);
+    throw std::invalid_argument("stripe image is " + std::to_string(coordinate.cols) + "x" +
+                                std::to_string(coordinate.rows) + " but the calibration of '" +
+                                calibration_.pair_id + "' is for " + std::to_string(camera.width) +
+                                "x" + std::to_string(camera.height) +
+                                ": use the calibration file of this camera and resolution");
+  return triangulateRows(coordinate.ptr<float>(), coordinate.step1(), camera.width, camera.height,
+                         ray_x_.data(), ray_y_.data(), planes_.data(), plane_deltas_.data(),
+                         calibration_.projector.stripeCount(), min_range_, max_range_, out,
+                         point_stride);
 }
-
 
 }  // namespace body_scan

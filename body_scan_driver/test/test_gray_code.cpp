@@ -39,7 +39,8 @@ TEST(GrayCode, MatchesThesisTable41) {
                         "0110011001100110"};
   for (int bit = 0; bit < 4; ++bit)
     for (uint32_t stripe = 0; stripe < 16; ++stripe)
-      EXPECT_EQ((grayEncode(stripe) >> (3 - bit)) & 1u, static_cast<uint32_t>(rows[bit][stripe] - '0'))
+      EXPECT_EQ((grayEncode(stripe) >> (3 - bit)) & 1u,
+                static_cast<uint32_t>(rows[bit][stripe] - '0'))
           << "pattern " << bit << " stripe " << stripe;
 }
 

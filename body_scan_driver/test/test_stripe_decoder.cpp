@@ -56,9 +56,8 @@ TEST(StripeDecoder, DefaultNoiseRarelyMissesByMoreThanOneStripe) {
     StripeImage image;
     const DecodeStats stats = decodeAndCompare(pair.render(7), pair.layout(), image);
     const double fraction = static_cast<double>(stats.off_by_more_than_one) / stats.valid;
-    std::cout << "[ figure ] default noise, inverse frames " << inverse << ": "
-              << 100 * fraction << " % of " << stats.valid
-              << " valid pixels off by more than one stripe; exact "
+    std::cout << "[ figure ] default noise, inverse frames " << inverse << ": " << 100 * fraction
+              << " % of " << stats.valid << " valid pixels off by more than one stripe; exact "
               << 100.0 * stats.correct / stats.lit << " %\n";
     EXPECT_GT(stats.valid, 0.99 * stats.lit);
     EXPECT_LE(fraction, 0.001);
@@ -101,11 +100,13 @@ TEST(StripeDecoder, AgreesWithOpenCvGrayCodeDecoder) {
       // Where pattern == inverse OpenCV always reads 0; we break the tie from the neighbours.
       bool tied = false;
       for (int bit = 0; bit < 8; ++bit)
-        tied |= set.frames[2 + 2 * bit].at<uint8_t>(v, u) == set.frames[3 + 2 * bit].at<uint8_t>(v, u);
+        tied |=
+            set.frames[2 + 2 * bit].at<uint8_t>(v, u) == set.frames[3 + 2 * bit].at<uint8_t>(v, u);
       tie_broken += tied;
     }
-  std::cout << "[ figure ] OpenCV agrees on " << equal << " of " << compared << " pixels; the other "
-            << compared - equal << " are pattern == inverse ties we resolve (" << tie_broken << ")\n";
+  std::cout << "[ figure ] OpenCV agrees on " << equal << " of " << compared
+            << " pixels; the other " << compared - equal
+            << " are pattern == inverse ties we resolve (" << tie_broken << ")\n";
   EXPECT_GT(compared, 30000);
   EXPECT_EQ(equal + tie_broken, compared);
   EXPECT_LT(compared - equal, compared / 500);

@@ -66,8 +66,8 @@ TEST(Triangulation, SphereOfRadius25mmAtOneMetre) {
     const test::SphereFit fit = test::fitSphere(points);
     radius_error[subpixel] = 1000 * std::abs(fit.radius - kRadius);
     std::cout << "[ figure ] sphere r = 25 mm, subpixel " << subpixel << ": " << points.size()
-              << " points, fitted r = " << 1000 * fit.radius << " mm, rms "
-              << 1000 * fit.rms << " mm\n";
+              << " points, fitted r = " << 1000 * fit.radius << " mm, rms " << 1000 * fit.rms
+              << " mm\n";
   }
   EXPECT_LE(radius_error[1], 0.5);
 }

@@ -2,8 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <opencv2/core.hpp>
 #include <cmath>
+#include <opencv2/core.hpp>
 
 #include "sim_fixtures.h"
 
@@ -75,10 +75,10 @@ TEST(VirtualPair, RenderingIsDeterministicPerSeedAndScan) {
   const sim::VirtualPair pair(test::pairLookingAlongX(), test::planeScene(1.0));
   const auto start = std::chrono::steady_clock::now();
   const sim::RenderedPatternSet first = pair.render(4);
-  std::cout << "[ figure ] one 18-frame 640x480 render: "
-            << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                   .count()
-            << " ms (benchmarked in bench_decode_triangulate)\n";
+  std::cout
+      << "[ figure ] one 18-frame 640x480 render: "
+      << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()
+      << " ms (benchmarked in bench_decode_triangulate)\n";
   const sim::RenderedPatternSet again = pair.render(4);
   const sim::RenderedPatternSet other = pair.render(5);
   ASSERT_EQ(first.frames.size(), 18u);

@@ -1,11 +1,11 @@
 #include <body_scan_merge/ply_writer.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
-#include <unistd.h>
 #include <vector>
 
 namespace body_scan {

@@ -13,13 +13,14 @@ TEST(PlyWriter, WritesFinitePointsWithColourAndAHeaderThatCountsThem) {
   float rgb;
   const uint32_t packed = 0x10A0F0;
   std::memcpy(&rgb, &packed, sizeof rgb);
-  const std::vector<float> cloud = {0.1f, 0.2f, 1.0f, rgb, nan, nan, nan, rgb,
-                                    -0.5f, 0.25f, 2.0f, rgb};
+  const std::vector<float> cloud = {0.1f, 0.2f, 1.0f,  rgb,   nan,  nan,
+                                    nan,  rgb,  -0.5f, 0.25f, 2.0f, rgb};
   const std::string path = std::filesystem::temp_directory_path() / "body_scan_test_cloud.ply";
   ASSERT_EQ(body_scan::writePly(path, cloud.data(), 3, 4, 3), 2u);
 
   std::ifstream file(path, std::ios::binary);
-  const std::string content((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::string content((std::istreambuf_iterator<char>(file)),
+                            std::istreambuf_iterator<char>());
   const std::string end = "end_header\n";
   const size_t body = content.find(end) + end.size();
   EXPECT_NE(content.find("element vertex 2\n"), std::string::npos);

@@ -32,8 +32,9 @@ class TriangulateNode : public testing::Test {
                          pair_->config().camera, header, "test/pair", 1);
     publisher_ = nh_.advertise<body_scan_msgs::PatternSet>("pattern_set", 4);
     subscriber_ = nh_.subscribe("points", 4, &TriangulateNode::onCloud, this);
-    for (int i = 0; i < 50 && (publisher_.getNumSubscribers() == 0 ||
-                               subscriber_.getNumPublishers() == 0); ++i)
+    for (int i = 0;
+         i < 50 && (publisher_.getNumSubscribers() == 0 || subscriber_.getNumPublishers() == 0);
+         ++i)
       ros::WallDuration(0.1).sleep();
     ASSERT_GT(publisher_.getNumSubscribers(), 0u) << "Triangulate did not subscribe";
   }

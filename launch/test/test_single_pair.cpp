@@ -18,11 +18,12 @@ TEST(SinglePair, PublishesACloudOfThePersonWithinTheTimeout) {
   tf2_ros::TransformListener tf_listener(tf_buffer);
 
   const ros::WallTime start = ros::WallTime::now();
-  const auto cloud = ros::topic::waitForMessage<sensor_msgs::PointCloud2>(topic, ros::Duration(timeout));
+  const auto cloud =
+      ros::topic::waitForMessage<sensor_msgs::PointCloud2>(topic, ros::Duration(timeout));
   ASSERT_TRUE(cloud) << "no cloud on " << topic << " within " << timeout << " s";
   std::cout << "[ figure ] first cloud after " << (ros::WallTime::now() - start).toSec() << " s\n";
-  const auto transform = tf_buffer.lookupTransform("world", cloud->header.frame_id, ros::Time(0),
-                                                   ros::Duration(2.0));
+  const auto transform =
+      tf_buffer.lookupTransform("world", cloud->header.frame_id, ros::Time(0), ros::Duration(2.0));
   const auto& t = transform.transform;
   const Eigen::Isometry3d world_from_camera =
       Eigen::Translation3d(t.translation.x, t.translation.y, t.translation.z) *

@@ -66,8 +66,8 @@ class StripeDecoder {
 
   PatternLayout layout_;
   DecoderParams params_;
-  int edge_ratio_q8_;                      // edge_contrast_ratio in 1/256 units
-  std::vector<uint8_t> bit_between_;       // stripe k -> the bit that flips between k and k+1
+  int edge_ratio_q8_;                 // edge_contrast_ratio in 1/256 units
+  std::vector<uint8_t> bit_between_;  // stripe k -> the bit that flips between k and k+1
   mutable cv::Mat contrast_, neighbourhood_max_, bright_, horizontal_sum_, bright_around_;
 };
 

@@ -63,7 +63,8 @@ class PairDriverNodelet : public nodelet::Nodelet {
   // The simulator knows its true geometry: write it as a calibration file and announce its
   // pose, so triangulation works before the pair is calibrated.
   void publishFactoryData(const std::string& calibration_file, bool publish_tf) {
-    if (auto calibration = device_->factoryCalibration(); calibration && !calibration_file.empty()) {
+    if (auto calibration = device_->factoryCalibration();
+        calibration && !calibration_file.empty()) {
       try {
         saveCalibration(calibration_file, *calibration);
         NODELET_INFO("[%s] factory calibration written to %s", pair_id_.c_str(),

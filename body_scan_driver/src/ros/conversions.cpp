@@ -3,8 +3,7 @@
 
 namespace body_scan {
 
-void toImageMessage(const cv::Mat& image, const std_msgs::Header& header,
-                    sensor_msgs::Image& msg) {
+void toImageMessage(const cv::Mat& image, const std_msgs::Header& header, sensor_msgs::Image& msg) {
   msg.header = header;
   msg.height = image.rows;
   msg.width = image.cols;
@@ -31,8 +30,7 @@ sensor_msgs::CameraInfo toCameraInfo(const PinholeCamera& c, const std_msgs::Hea
 }
 
 body_scan_msgs::PatternSetPtr toPatternSet(const PatternCapture& capture,
-                                           const PatternLayout& layout,
-                                           const PinholeCamera& camera,
+                                           const PatternLayout& layout, const PinholeCamera& camera,
                                            const std_msgs::Header& header,
                                            const std::string& pair_id, uint32_t scan_id) {
   body_scan_msgs::PatternSetPtr set(new body_scan_msgs::PatternSet);

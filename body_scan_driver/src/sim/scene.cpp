@@ -59,8 +59,7 @@ bool Plane::intersect(const Ray& ray, double t_min, double t_max, Hit& hit) cons
 }
 
 double Plane::boundingRadius() const {
-  return half_extent_ > 0 ? half_extent_ * std::sqrt(2.0)
-                          : std::numeric_limits<double>::infinity();
+  return half_extent_ > 0 ? half_extent_ * std::sqrt(2.0) : std::numeric_limits<double>::infinity();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -180,8 +179,7 @@ bool Ellipsoid::intersect(const Ray& ray, double t_min, double t_max, Hit& hit) 
   const Eigen::Vector3d o = to_unit_ * (ray.origin - center_);
   const Eigen::Vector3d d = to_unit_ * ray.direction;
   double t;
-  if (!nearestRoot(d.squaredNorm(), o.dot(d), o.squaredNorm() - 1.0, t_min, t_max, t))
-    return false;
+  if (!nearestRoot(d.squaredNorm(), o.dot(d), o.squaredNorm() - 1.0, t_min, t_max, t)) return false;
   hit.distance = t;
   // The gradient of |M x|^2 is M^T M x: the normal is M^T times the unit-sphere point.
   hit.normal = (to_unit_.transpose() * (o + t * d)).normalized();
@@ -256,9 +254,9 @@ void addObject(const YAML::Node& object, const std::string& where, Scene& scene)
   const std::string type = object["type"] ? object["type"].as<std::string>() : "";
   std::unique_ptr<Surface> surface;
   if (type == "plane") {
-    surface = std::make_unique<Plane>(readVector(object, "point", where),
-                                      readVector(object, "normal", where), readMaterial(object),
-                                      object["half_extent"] ? object["half_extent"].as<double>() : 0);
+    surface = std::make_unique<Plane>(
+        readVector(object, "point", where), readVector(object, "normal", where),
+        readMaterial(object), object["half_extent"] ? object["half_extent"].as<double>() : 0);
   } else if (type == "checkerboard") {
     surface = std::make_unique<CheckerboardPlane>(
         readVector(object, "center", where), readVector(object, "normal", where),

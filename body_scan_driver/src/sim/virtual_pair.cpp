@@ -38,8 +38,8 @@ SweptLaserProjector::Plane SweptLaserProjector::planeAtAngle(double angle) const
   const Eigen::Vector3d mirror_normal = std::cos(angle) * e1 + std::sin(angle) * e2;
   const Eigen::Vector3d d = laser_direction.normalized();
   // The laser meets the mirror face n . (x - axis_point) = offset: this point moves with angle.
-  const double t = (mirror_offset - mirror_normal.dot(laser_origin - mirror_axis_point)) /
-                   mirror_normal.dot(d);
+  const double t =
+      (mirror_offset - mirror_normal.dot(laser_origin - mirror_axis_point)) / mirror_normal.dot(d);
   Plane plane;
   plane.source = laser_origin + t * d;
   plane.central = d - 2 * d.dot(mirror_normal) * mirror_normal;
@@ -108,9 +108,9 @@ double VirtualPair::trueStripe(const Eigen::Vector3d& point,
   const double slope = (g_hi - g_lo) / sweep_step_;
   double s = (lo + g_lo / (g_lo - g_hi)) * sweep_step_;
   for (int iteration = 0; iteration < 2; ++iteration) {
-    *plane = projector.planeAtAngle(projector.first_mirror_angle +
-                                    s / stripes *
-                                        (projector.last_mirror_angle - projector.first_mirror_angle));
+    *plane = projector.planeAtAngle(
+        projector.first_mirror_angle +
+        s / stripes * (projector.last_mirror_angle - projector.first_mirror_angle));
     s -= (plane->normal.dot(point) + plane->offset) / slope;
   }
   const Eigen::Vector3d to_point = point - plane->source;
@@ -167,8 +167,7 @@ RenderedPatternSet VirtualPair::render(uint32_t scan_id) const {
         SurfaceSample& sample = samples[index];
         sample.ambient_level = static_cast<float>(sensor.projector_level * albedo * sensor.ambient);
         const double facing = std::max(0.0, -normal_camera.dot(ray_camera));
-        sample.color = toVec3f(color) *
-                       static_cast<float>(255.0 * (0.3 + 0.7 * facing));
+        sample.color = toVec3f(color) * static_cast<float>(255.0 * (0.3 + 0.7 * facing));
 
         SweptLaserProjector::Plane plane;
         const double stripe = trueStripe(point_camera, &plane);

@@ -47,8 +47,13 @@ VirtualPairConfig loadVirtualPairConfig(const std::string& path) {
   PinholeCamera& c = config.camera;
   optional(camera, "width", c.width, camera_where);
   optional(camera, "height", c.height, camera_where);
-  for (auto [key, field] : {std::pair{"alpha", &c.alpha}, {"beta", &c.beta}, {"gamma", &c.gamma},
-                            {"u0", &c.u0}, {"v0", &c.v0}, {"k1", &c.k1}, {"k2", &c.k2}})
+  for (auto [key, field] : {std::pair{"alpha", &c.alpha},
+                            {"beta", &c.beta},
+                            {"gamma", &c.gamma},
+                            {"u0", &c.u0},
+                            {"v0", &c.v0},
+                            {"k1", &c.k1},
+                            {"k2", &c.k2}})
     optional(camera, key, *field, camera_where);
   if (c.width <= 0 || c.height <= 0 || c.alpha <= 0 || c.beta <= 0)
     throw std::runtime_error(camera_where + ": width, height, alpha and beta must be > 0");

@@ -21,7 +21,8 @@ namespace {
 // A cv::Mat header over an image message's bytes (no copy); nullopt if the encoding differs.
 std::optional<cv::Mat> view(const sensor_msgs::Image& image, const std::string& encoding,
                             int type) {
-  if (image.encoding != encoding || image.data.size() < static_cast<size_t>(image.step) * image.height)
+  if (image.encoding != encoding ||
+      image.data.size() < static_cast<size_t>(image.step) * image.height)
     return std::nullopt;
   return cv::Mat(image.height, image.width, type, const_cast<uint8_t*>(image.data.data()),
                  image.step);
@@ -59,8 +60,8 @@ class TriangulateNodelet : public nodelet::Nodelet {
   bool ensureCalibration(const std::string& pair_id) {
     if (triangulator_) return true;
     try {
-      triangulator_ = std::make_unique<Triangulator>(loadCalibration(calibration_file_),
-                                                     min_range_, max_range_);
+      triangulator_ = std::make_unique<Triangulator>(loadCalibration(calibration_file_), min_range_,
+                                                     max_range_);
       NODELET_INFO("[%s] calibration loaded from %s (%s)", pair_id.c_str(),
                    calibration_file_.c_str(), triangulator_->calibration().source.c_str());
       return true;
@@ -73,17 +74,20 @@ class TriangulateNodelet : public nodelet::Nodelet {
   void onPatternSet(const body_scan_msgs::PatternSet::ConstPtr& set) {
     const std::string& pair = set->pair_id;
     if (set->scheme != "gray") {
-      NODELET_ERROR_THROTTLE(5.0, "[%s] pattern scheme '%s' is not supported; the driver must "
-                             "send scheme 'gray'", pair.c_str(), set->scheme.c_str());
+      NODELET_ERROR_THROTTLE(5.0,
+                             "[%s] pattern scheme '%s' is not supported; the driver must "
+                             "send scheme 'gray'",
+                             pair.c_str(), set->scheme.c_str());
       return;
     }
     std::vector<cv::Mat> frames;
     for (size_t i = 0; i < set->frames.size(); ++i) {
       const auto frame = view(set->frames[i], sensor_msgs::image_encodings::MONO8, CV_8UC1);
       if (!frame) {
-        NODELET_ERROR_THROTTLE(5.0, "[%s] frame %zu has encoding '%s' or a short buffer; "
-                               "pattern frames must be complete mono8 images", pair.c_str(), i,
-                               set->frames[i].encoding.c_str());
+        NODELET_ERROR_THROTTLE(5.0,
+                               "[%s] frame %zu has encoding '%s' or a short buffer; "
+                               "pattern frames must be complete mono8 images",
+                               pair.c_str(), i, set->frames[i].encoding.c_str());
         return;
       }
       frames.push_back(*frame);
@@ -92,13 +96,13 @@ class TriangulateNodelet : public nodelet::Nodelet {
     try {
       if (!decoder_ || decoder_->layout().bits() != set->bits ||
           decoder_->layout().inverseFrames() != set->inverse_frames)
-        decoder_ = std::make_unique<StripeDecoder>(PatternLayout(set->bits, set->inverse_frames),
-                                                   params_);
+        decoder_ =
+            std::make_unique<StripeDecoder>(PatternLayout(set->bits, set->inverse_frames), params_);
       decoder_->decode(frames, stripes_);
       publish(*set, frames[0].size());
     } catch (const std::exception& e) {
-      NODELET_ERROR_THROTTLE(5.0, "[%s] scan %u not triangulated: %s", pair.c_str(),
-                             set->scan_id, e.what());
+      NODELET_ERROR_THROTTLE(5.0, "[%s] scan %u not triangulated: %s", pair.c_str(), set->scan_id,
+                             e.what());
     }
   }
 

@@ -28,12 +28,11 @@ int main(int argc, char** argv) {
     return 1;
   }
   try {
-    const size_t written =
-        body_scan::writePly(output, reinterpret_cast<const float*>(cloud->data.data()),
-                            static_cast<size_t>(cloud->width) * cloud->height,
-                            cloud->point_step / 4, rgb_offset);
-    std::printf("%zu points (frame %s) written to %s\n", written,
-                cloud->header.frame_id.c_str(), output.c_str());
+    const size_t written = body_scan::writePly(
+        output, reinterpret_cast<const float*>(cloud->data.data()),
+        static_cast<size_t>(cloud->width) * cloud->height, cloud->point_step / 4, rgb_offset);
+    std::printf("%zu points (frame %s) written to %s\n", written, cloud->header.frame_id.c_str(),
+                output.c_str());
   } catch (const std::exception& e) {
     ROS_ERROR("%s", e.what());
     return 1;

@@ -13,8 +13,7 @@ namespace body_scan {
 void toImageMessage(const cv::Mat& image, const std_msgs::Header& header, sensor_msgs::Image& msg);
 sensor_msgs::CameraInfo toCameraInfo(const PinholeCamera& camera, const std_msgs::Header& header);
 body_scan_msgs::PatternSetPtr toPatternSet(const PatternCapture& capture,
-                                           const PatternLayout& layout,
-                                           const PinholeCamera& camera,
+                                           const PatternLayout& layout, const PinholeCamera& camera,
                                            const std_msgs::Header& header,
                                            const std::string& pair_id, uint32_t scan_id);
 

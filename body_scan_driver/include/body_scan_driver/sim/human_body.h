@@ -47,8 +47,8 @@ struct Anthropometry {
 // forward (knee and elbow flexion positive = bending); abduction is about the body's x axis,
 // positive = away from the midline. Defaults: standing, arms slightly abducted.
 struct BodyPose {
-  double heading = 0;    // rotation of the body about world z (0 = facing world +x)
-  double torso_lean = 0; // forward lean of the upper torso about the hips
+  double heading = 0;     // rotation of the body about world z (0 = facing world +x)
+  double torso_lean = 0;  // forward lean of the upper torso about the hips
   double neck_flexion = 0;
   double left_shoulder_flexion = 0, left_shoulder_abduction = 0.2, left_elbow_flexion = 0.1;
   double right_shoulder_flexion = 0, right_shoulder_abduction = 0.2, right_elbow_flexion = 0.1;

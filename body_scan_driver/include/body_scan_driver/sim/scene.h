@@ -103,8 +103,8 @@ class Sphere : public Surface {
 // Closed cylinder (side and both caps) from base along axis for height.
 class Cylinder : public Surface {
  public:
-  Cylinder(const Eigen::Vector3d& base, const Eigen::Vector3d& axis, double radius,
-           double height, Material material);
+  Cylinder(const Eigen::Vector3d& base, const Eigen::Vector3d& axis, double radius, double height,
+           Material material);
   bool intersect(const Ray& ray, double t_min, double t_max, Hit& hit) const override;
   double boundingRadius() const override;
   Eigen::Vector3d boundingCenter() const override;

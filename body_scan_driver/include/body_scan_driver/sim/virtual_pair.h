@@ -32,11 +32,11 @@ struct SweptLaserProjector {
   double last_mirror_angle = 1.0996;   // at coordinate stripe_count (~63 deg): beam 36 deg down
 
   struct Plane {
-    Eigen::Vector3d normal;  // unit
-    double offset;           // plane: normal . x + offset = 0
-    Eigen::Vector3d source;  // where the light leaves the mirror
-    Eigen::Vector3d spread;  // direction of the line within the plane
-    Eigen::Vector3d central; // central ray direction
+    Eigen::Vector3d normal;   // unit
+    double offset;            // plane: normal . x + offset = 0
+    Eigen::Vector3d source;   // where the light leaves the mirror
+    Eigen::Vector3d spread;   // direction of the line within the plane
+    Eigen::Vector3d central;  // central ray direction
   };
   // The light plane at mirror angle `angle`.
   Plane planeAtAngle(double angle) const;
@@ -73,9 +73,9 @@ VirtualPairConfig loadVirtualPairConfig(const std::string& path);
 
 // Exact ground truth of one render. Only the simulator, tests and evaluation tools use it.
 struct GroundTruth {
-  cv::Mat3f points;           // camera-frame point seen at each pixel centre; NaN = nothing
-  cv::Mat1f stripe;           // continuous stripe coordinate lighting it; NaN = unlit/shadow
-  cv::Mat1i surface;          // index into Scene::surfaces(); -1 = nothing
+  cv::Mat3f points;   // camera-frame point seen at each pixel centre; NaN = nothing
+  cv::Mat1f stripe;   // continuous stripe coordinate lighting it; NaN = unlit/shadow
+  cv::Mat1i surface;  // index into Scene::surfaces(); -1 = nothing
   std::vector<SkeletonJoint> skeleton;  // world frame
 };
 
@@ -104,10 +104,10 @@ class VirtualPair {
   VirtualPairConfig config_;
   std::shared_ptr<const Scene> scene_;
   PatternLayout layout_;
-  std::vector<Eigen::Vector3f> camera_rays_;          // unit rays per pixel (camera frame)
-  std::vector<SweptLaserProjector::Plane> sweep_;     // planes at fine steps of the coordinate
-  double sweep_step_;                                 // stripe coordinate between sweep_ entries
-  std::vector<float> noise_;                          // unit Gaussian samples
+  std::vector<Eigen::Vector3f> camera_rays_;       // unit rays per pixel (camera frame)
+  std::vector<SweptLaserProjector::Plane> sweep_;  // planes at fine steps of the coordinate
+  double sweep_step_;                              // stripe coordinate between sweep_ entries
+  std::vector<float> noise_;                       // unit Gaussian samples
 };
 
 }  // namespace body_scan::sim
