@@ -74,9 +74,6 @@ void StripeDecoder::decode(const std::vector<cv::Mat>& frames, StripeImage& out)
   checkFrames(layout_, frames);
   out.stripe.create(frames[0].size());
   out.coordinate.create(frames[0].size());
-  decodeIntegers(frames, out);
-  if (!params_.subpixel) return;
-
   FrameRows rows;
   rows.lit = frames[PatternLayout::litFrame()].data;
   rows.dark = frames[PatternLayout::darkFrame()].data;
@@ -85,6 +82,8 @@ void StripeDecoder::decode(const std::vector<cv::Mat>& frames, StripeImage& out)
     rows.pattern.push_back(frames[layout_.patternFrame(bit)].data);
     if (layout_.inverseFrames()) rows.inverse.push_back(frames[layout_.inverseFrame(bit)].data);
   }
+  decodeIntegers(frames, rows, out);
+  if (!params_.subpixel) return;
   const bool along_rows = params_.axis == DecoderParams::StripeAxis::kAuto
                               ? stripesChangeAlongRows(out)
                               : params_.axis == DecoderParams::StripeAxis::kAlongRows;
@@ -109,7 +108,8 @@ bool StripeDecoder::stripesChangeAlongRows(const StripeImage& out) const {
   return vertical_changes >= horizontal_changes;
 }
 
-void StripeDecoder::decodeIntegers(const std::vector<cv::Mat>& frames, StripeImage& out) const {
+void StripeDecoder::decodeIntegers(const std::vector<cv::Mat>& frames, const FrameRows& frame_rows,
+                                   StripeImage& out) const {
   const int cols = frames[0].cols, rows = frames[0].rows;
   const int min_contrast = params_.min_contrast;
   const bool inverse = layout_.inverseFrames();
@@ -121,15 +121,6 @@ void StripeDecoder::decodeIntegers(const std::vector<cv::Mat>& frames, StripeIma
   countBrightNeighbours();
   const int min_bright_window = params_.min_bright_neighbours + 1;
   const int ratio = edge_ratio_q8_;
-
-  FrameRows frame_rows;
-  frame_rows.lit = frames[PatternLayout::litFrame()].data;
-  frame_rows.dark = frames[PatternLayout::darkFrame()].data;
-  frame_rows.step = frames[0].step;
-  for (int bit = 0; bit < layout_.bits(); ++bit) {
-    frame_rows.pattern.push_back(frames[layout_.patternFrame(bit)].data);
-    if (inverse) frame_rows.inverse.push_back(frames[layout_.inverseFrame(bit)].data);
-  }
 
   std::vector<uint8_t> tied(cols), valid(cols);  // tied: some bit's pattern equals its inverse
   for (int v = 0; v < rows; ++v) {

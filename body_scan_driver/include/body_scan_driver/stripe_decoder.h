@@ -56,7 +56,8 @@ class StripeDecoder {
 
  private:
   struct FrameRows;  // per-bit frame pointers of one pattern set
-  void decodeIntegers(const std::vector<cv::Mat>& frames, StripeImage& out) const;
+  void decodeIntegers(const std::vector<cv::Mat>& frames, const FrameRows& rows,
+                      StripeImage& out) const;
   template <bool kAlongRows>
   void interpolateBoundaries(const FrameRows& rows, StripeImage& out) const;
   bool stripesChangeAlongRows(const StripeImage& out) const;

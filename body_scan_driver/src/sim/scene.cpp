@@ -6,6 +6,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "yaml_file.h"
+
 namespace body_scan::sim {
 namespace {
 
@@ -285,13 +287,7 @@ void addObject(const YAML::Node& object, const std::string& where, Scene& scene)
 }  // namespace
 
 Scene loadScene(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error("cannot read scene file '" + path + "': " + e.what() +
-                             " (check the path and the YAML syntax)");
-  }
+  const YAML::Node root = loadYamlFile(path, "scene");
   if (!root["objects"] || !root["objects"].IsSequence())
     throw std::runtime_error("scene file '" + path + "' needs a list 'objects:'");
   Scene scene;

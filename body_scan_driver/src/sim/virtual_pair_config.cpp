@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "yaml_file.h"
+
 namespace body_scan::sim {
 namespace {
 
@@ -32,13 +34,7 @@ void optionalVector(const YAML::Node& node, const char* key, Eigen::Vector3d& va
 }  // namespace
 
 VirtualPairConfig loadVirtualPairConfig(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error("cannot read pair file '" + path + "': " + e.what() +
-                             " (check the path and the YAML syntax)");
-  }
+  const YAML::Node root = loadYamlFile(path, "pair");
   VirtualPairConfig config;
   optional(root, "pair_id", config.pair_id, path);
 
