@@ -10,43 +10,49 @@ namespace body_scan {
 
 namespace {
 
-// The per-pixel work over plain arrays, in three loops per row so that the division runs on
-// whole vectors: (1) gather each pixel's interpolated plane (scalar), (2) divide and range-check
-// (vectorized; NaN marks invalid pixels), (3) scale the rays (NaN propagates, no branches).
+// The per-pixel work over plain arrays. Stripes cross a row rarely (they are bands across the
+// image), so each row is cut into runs of one plane index: within a run the plane and its
+// slope are constants and the loop vectorizes; a NaN coordinate gives a NaN depth.
 size_t triangulateRows(const float* coordinates, size_t coordinate_step, int width, int height,
                        const float* rays_x, const float* rays_y, const float* planes,
                        const float* deltas, int stripe_count, float min_range, float max_range,
                        float* out, size_t point_stride) {
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   const int last_lower = stripe_count - 2;
-  std::vector<float> buffers(3 * static_cast<size_t>(width));
-  float* __restrict numerator = buffers.data();
-  float* __restrict denominator = numerator + width;
-  float* __restrict depth = denominator + width;
+  std::vector<float> depth_buffer(width);
+  std::vector<int> lower_buffer(width);
+  float* __restrict depth = depth_buffer.data();
+  int* __restrict lower = lower_buffer.data();
   size_t valid = 0;
   for (int v = 0; v < height; ++v) {
-    const float* s = coordinates + static_cast<size_t>(v) * coordinate_step;
+    const float* __restrict s = coordinates + static_cast<size_t>(v) * coordinate_step;
     const size_t row = static_cast<size_t>(v) * width;
     const float* __restrict ray_x = rays_x + row;
     const float* __restrict ray_y = rays_y + row;
+    // Plane i sits at the stripe centre s = i + 0.5: pixel u interpolates planes lower[u] and
+    // lower[u] + 1.
     for (int u = 0; u < width; ++u) {
-      // Plane i sits at the stripe centre s = i + 0.5; interpolate between neighbours. A NaN
-      // coordinate gives a NaN plane and so a NaN depth.
-      const float position = s[u] - 0.5f;
-      const int lower = std::clamp(static_cast<int>(position), 0, last_lower);
-      const float f = position - static_cast<float>(lower);
-      const float* p = planes + 4 * lower;
-      const float* dp = deltas + 4 * lower;
-      denominator[u] =
-          (p[0] + f * dp[0]) * ray_x[u] + (p[1] + f * dp[1]) * ray_y[u] + (p[2] + f * dp[2]);
-      numerator[u] = -(p[3] + f * dp[3]);
+      const float position = s[u] - 0.5f;  // NaN (invalid pixel) takes plane 0, depth stays NaN
+      lower[u] = position > 0.f ? std::min(static_cast<int>(position), last_lower) : 0;
     }
     int row_valid = 0;
-    for (int u = 0; u < width; ++u) {
-      const float z = numerator[u] / denominator[u];           // eq 3.12 for a general plane
-      const int in_range = (z > min_range) & (z < max_range);  // 0 for NaN
-      depth[u] = in_range ? z : kNaN;
-      row_valid += in_range;
+    for (int start = 0; start < width;) {
+      int end = start + 1;
+      while (end < width && lower[end] == lower[start]) ++end;
+      const float* p = planes + 4 * lower[start];
+      const float* dp = deltas + 4 * lower[start];
+      const float base = static_cast<float>(lower[start]) + 0.5f;
+      const float a = p[0], b = p[1], c = p[2], d = p[3];
+      const float da = dp[0], db = dp[1], dc = dp[2], dd = dp[3];
+      for (int u = start; u < end; ++u) {
+        const float f = s[u] - base;
+        const float z = -(d + f * dd) / ((a + f * da) * ray_x[u] + (b + f * db) * ray_y[u] +
+                                         (c + f * dc));          // eq 3.12
+        const int in_range = (z > min_range) & (z < max_range);  // 0 for NaN
+        depth[u] = in_range ? z : kNaN;
+        row_valid += in_range;
+      }
+      start = end;
     }
     valid += static_cast<size_t>(row_valid);
     float* points = out + row * point_stride;
