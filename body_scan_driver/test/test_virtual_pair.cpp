@@ -3,6 +3,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <opencv2/core.hpp>
 
 #include "sim_fixtures.h"
@@ -95,4 +97,26 @@ TEST(VirtualPair, RenderingIsDeterministicPerSeedAndScan) {
   // Blur (0.7 px) correlates neighbours, so the difference is below 2 * sqrt(2).
   EXPECT_GT(deviation[0], 1.0);
   EXPECT_LT(deviation[0], 2.9);
+}
+
+TEST(VirtualPair, PairFileTyposAreErrorsAndTheDefaultFileLoads) {
+  const auto path = std::filesystem::temp_directory_path() / "body_scan_test_pair.yaml";
+  std::ofstream(path) << "sensor: {noise_sgima: 1.0}\n";
+  try {
+    sim::loadVirtualPairConfig(path.string());
+    FAIL() << "typo accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown key 'noise_sgima'"), std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(path);
+  const auto config =
+      sim::loadVirtualPairConfig(std::filesystem::path(__FILE__).parent_path().string() +
+                                 "/../config/pairs/default_pair.yaml");
+  EXPECT_EQ(config.pair_id, "pole_a/pair_1");
+  EXPECT_DOUBLE_EQ(config.camera.alpha, 810.0);
+  EXPECT_DOUBLE_EQ(config.sensor.noise_sigma, 2.0);
+  // 1 m in front of the subject at 1.25 m, looking back at it (-x).
+  EXPECT_NEAR(config.world_from_camera.translation().x(), 1.0, 1e-12);
+  EXPECT_NEAR((config.world_from_camera.linear() * Eigen::Vector3d::UnitZ()).x(), -1.0, 1e-12);
 }

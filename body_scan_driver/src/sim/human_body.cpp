@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "yaml_file.h"
+
 namespace body_scan::sim {
 
 Anthropometry Anthropometry::fromStature(double stature) {
@@ -315,23 +317,6 @@ void addHumanBody(const HumanBodySpec& spec, Scene& scene) {
 
 // ---------------------------------------------------------------------------------------------
 namespace {
-
-std::string joined(const std::vector<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text;
-}
-
-void requireKnownKeys(const YAML::Node& map, const std::vector<std::string>& accepted,
-                      const std::string& where) {
-  if (!map.IsMap()) throw std::runtime_error(where + " must be a map of key: value");
-  for (const auto& entry : map) {
-    const std::string key = entry.first.as<std::string>();
-    if (std::find(accepted.begin(), accepted.end(), key) == accepted.end())
-      throw std::runtime_error(where + ": unknown key '" + key +
-                               "'; accepted: " + joined(accepted));
-  }
-}
 
 double readNumber(const YAML::Node& map, const std::string& key, const std::string& where) {
   try {

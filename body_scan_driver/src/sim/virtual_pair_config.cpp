@@ -35,6 +35,20 @@ void optionalVector(const YAML::Node& node, const char* key, Eigen::Vector3d& va
 
 VirtualPairConfig loadVirtualPairConfig(const std::string& path) {
   const YAML::Node root = loadYamlFile(path, "pair");
+  requireKnownKeys(root, {"pair_id", "camera", "pose", "pattern", "sensor", "projector"}, path);
+  requireKnownKeys(root["camera"],
+                   {"width", "height", "alpha", "beta", "gamma", "u0", "v0", "k1", "k2"},
+                   path + ": camera");
+  requireKnownKeys(root["pose"], {"position", "yaw_deg", "pitch_deg"}, path + ": pose");
+  requireKnownKeys(root["pattern"], {"bits", "inverse_frames"}, path + ": pattern");
+  requireKnownKeys(root["sensor"],
+                   {"noise_sigma", "blur_sigma", "ambient", "projector_level", "seed"},
+                   path + ": sensor");
+  requireKnownKeys(
+      root["projector"],
+      {"mirror_axis_point", "mirror_axis", "mirror_offset", "laser_origin", "laser_direction",
+       "first_mirror_angle_deg", "last_mirror_angle_deg", "fan_half_angle_deg"},
+      path + ": projector");
   VirtualPairConfig config;
   optional(root, "pair_id", config.pair_id, path);
 

@@ -3,8 +3,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace body_scan::sim {
 
@@ -15,6 +17,21 @@ inline YAML::Node loadYamlFile(const std::string& path, const std::string& kind)
   } catch (const YAML::Exception& e) {
     throw std::runtime_error("cannot read " + kind + " file '" + path + "': " + e.what() +
                              " (check the path and the YAML syntax)");
+  }
+}
+
+// Throws std::runtime_error naming `where`, the unknown key and the accepted ones: a typo in a
+// file must not be silently ignored. An absent map is fine (every key is optional).
+inline void requireKnownKeys(const YAML::Node& map, const std::vector<std::string>& accepted,
+                             const std::string& where) {
+  if (!map) return;
+  if (!map.IsMap()) throw std::runtime_error(where + " must be a map of key: value");
+  for (const auto& entry : map) {
+    const std::string key = entry.first.as<std::string>();
+    if (std::find(accepted.begin(), accepted.end(), key) != accepted.end()) continue;
+    std::string list;
+    for (const std::string& name : accepted) list += (list.empty() ? "" : ", ") + name;
+    throw std::runtime_error(where + ": unknown key '" + key + "'; accepted: " + list);
   }
 }
 
