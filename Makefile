@@ -28,7 +28,8 @@ CMAKE_BUILD_TYPE ?= Release
 #   catkin ... ros-core, rosbash, ros-message-generation: catkin, roscpp, message generation,
 #       nodelets, pluginlib, rostest/roslaunch (the test harness) and rosrun/roscd
 #   rviz: the demo's visualisation (launch/, rviz/)
-#   libcv-bridge-dev ... python3-rosbag: image, tf2 and bag APIs used by the nodes and demo
+#   libcv-bridge-dev ... python3-rosbag: image, tf2 and bag APIs used by the nodes and demo;
+#       libcamera-calibration-parsers-dev: the test that ROS reads our calibration files
 #   libopencv-dev, libopencv-contrib-dev: OpenCV (contrib = structured_light, the reference
 #       decoder of the benchmarks); opencv-doc: its sample images
 #   libeigen3-dev, libyaml-cpp-dev: maths and calibration files
@@ -38,6 +39,7 @@ DEB_PACKAGES := \
 	catkin ros-base-dev ros-message-generation libnodeletlib-dev libnodeletlib-tools \
 	pluginlib-dev librostest-dev python3-rostest python3-roslaunch ros-core rosbash rviz \
 	libcv-bridge-dev libimage-transport-dev libsensor-msgs-dev libtf2-ros-dev \
+	libcamera-calibration-parsers-dev \
 	librosbag-dev python3-rosbag \
 	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev \
 	libgtest-dev libbenchmark-dev \

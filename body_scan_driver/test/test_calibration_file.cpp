@@ -1,4 +1,5 @@
 #include <body_scan_driver/calibration_file.h>
+#include <camera_calibration_parsers/parse.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -69,5 +70,29 @@ TEST(CalibrationFile, BadFilesGiveErrorsNamingTheProblemAndTheFix) {
 
   std::ofstream(folder + "/broken.yaml") << "camera_matrix: [unclosed\n";
   EXPECT_NE(expectError(folder + "/broken.yaml").find("not valid YAML"), std::string::npos);
+  std::filesystem::remove_all(folder);
+}
+
+TEST(CalibrationFile, CameraPartIsReadByCameraCalibrationParsers) {
+  // The standard ROS reader must accept our files and see the same camera.
+  const sim::VirtualPair pair(test::pairLookingAlongX(), test::planeScene(1.0));
+  const PairCalibration written = pair.factoryCalibration();
+  const std::string folder = temporaryFolder();
+  const std::string path = folder + "/pair.yaml";
+  saveCalibration(path, written);
+  std::string camera_name;
+  sensor_msgs::CameraInfo info;
+  ASSERT_TRUE(camera_calibration_parsers::readCalibration(path, camera_name, info));
+  EXPECT_EQ(camera_name, written.pair_id);
+  EXPECT_EQ(info.width, 640u);
+  EXPECT_EQ(info.height, 480u);
+  EXPECT_EQ(info.distortion_model, "plumb_bob");
+  EXPECT_DOUBLE_EQ(info.K[0], written.camera.alpha);
+  EXPECT_DOUBLE_EQ(info.K[2], written.camera.u0);
+  EXPECT_DOUBLE_EQ(info.K[4], written.camera.beta);
+  EXPECT_DOUBLE_EQ(info.K[5], written.camera.v0);
+  ASSERT_EQ(info.D.size(), 5u);
+  EXPECT_DOUBLE_EQ(info.D[0], written.camera.k1);
+  EXPECT_DOUBLE_EQ(info.D[1], written.camera.k2);
   std::filesystem::remove_all(folder);
 }
