@@ -67,6 +67,7 @@ TEST(Scene, NearestSurfaceWinsAndShadowsAreFound) {
   ASSERT_TRUE(scene.intersect(along({0, 0, 0}, {1, 0, 0}), hit));
   EXPECT_NEAR(hit.distance, 1.5, 1e-12);
   EXPECT_EQ(hit.surface, scene.surfaces()[1].get());
+  EXPECT_EQ(hit.surface_index, 1);
   EXPECT_TRUE(scene.occluded({0, 0, 0}, {3, 0, 0}));
   EXPECT_FALSE(scene.occluded({0, 1, 0}, {3, 1, 0}));
 }

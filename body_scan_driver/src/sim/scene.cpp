@@ -198,7 +198,8 @@ void Scene::addJoints(const std::vector<SkeletonJoint>& joints) {
 
 bool Scene::intersect(const Ray& ray, Hit& hit, double t_min, double t_max) const {
   bool found = false;
-  for (const auto& surface : surfaces_) {
+  for (size_t index = 0; index < surfaces_.size(); ++index) {
+    const Surface* surface = surfaces_[index].get();
     const double radius = surface->boundingRadius();
     if (std::isfinite(radius)) {
       // Cull by the bounding sphere: skip when the ray's line misses it or it lies behind.
@@ -209,6 +210,7 @@ bool Scene::intersect(const Ray& ray, Hit& hit, double t_min, double t_max) cons
     }
     if (surface->intersect(ray, t_min, t_max, hit)) {
       t_max = hit.distance;
+      hit.surface_index = static_cast<int>(index);
       found = true;
     }
   }

@@ -156,9 +156,7 @@ RenderedPatternSet VirtualPair::render(uint32_t scan_id) const {
         if (!scene_->intersect(Ray{pose.translation(), rotation * ray_camera}, hit)) continue;
         const Eigen::Vector3d point_camera = hit.distance * ray_camera;
         const Eigen::Vector3d point_world = pose * point_camera;
-        const auto& surfaces = scene_->surfaces();
-        for (size_t i = 0; i < surfaces.size(); ++i)
-          if (surfaces[i].get() == hit.surface) truth.surface(v, u) = static_cast<int>(i);
+        truth.surface(v, u) = hit.surface_index;
         truth.points(v, u) = toVec3f(point_camera);
 
         const Eigen::Vector3d normal_camera = rotation.transpose() * hit.normal;

@@ -29,6 +29,7 @@ struct Hit {
   double distance = std::numeric_limits<double>::infinity();  // along the ray
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();           // unit, outward
   const Surface* surface = nullptr;
+  int surface_index = -1;  // into Scene::surfaces(); set by Scene::intersect
 };
 
 // One primitive. Implementations: Plane, CheckerboardPlane, Sphere, Cylinder, Ellipsoid.
