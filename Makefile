@@ -32,7 +32,12 @@ CMAKE_BUILD_TYPE ?= Release
 #       libcamera-calibration-parsers-dev: the test that ROS reads our calibration files
 #   libopencv-dev, libopencv-contrib-dev: OpenCV (contrib = structured_light, the reference
 #       decoder of the benchmarks); opencv-doc: its sample images
-#   libeigen3-dev, libyaml-cpp-dev: maths and calibration files
+#   libeigen3-dev, libyaml-cpp-dev: maths and calibration files; libceres-dev: the
+#       maximum-likelihood refinements of calibration (body_scan_calib)
+#   libusb-1.0-0-dev, libuvc-dev, libx11-dev: the hardware backend (USB enumeration and
+#       hot-plug, UVC cameras, the projector's full-screen pattern window);
+#       libdiagnostic-updater-dev, libdynamic-reconfigure-config-init-mutex-dev,
+#       python3-dynamic-reconfigure: device health on /diagnostics, run-time camera settings
 #   libgtest-dev, libbenchmark-dev: unit tests (catkin_add_gtest) and Google Benchmark
 #   xvfb, xauth: headless X for anything that needs a display; imagemagick: demo images
 DEB_PACKAGES := \
@@ -41,7 +46,9 @@ DEB_PACKAGES := \
 	libcv-bridge-dev libimage-transport-dev libsensor-msgs-dev libtf2-ros-dev \
 	libcamera-calibration-parsers-dev \
 	librosbag-dev python3-rosbag \
-	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev \
+	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libceres-dev \
+	libusb-1.0-0-dev libuvc-dev libx11-dev libdiagnostic-updater-dev \
+	libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure \
 	libgtest-dev libbenchmark-dev \
 	xvfb xauth imagemagick opencv-doc
 
