@@ -59,7 +59,8 @@ FORMAT_PACKAGES := clang-format
 PACKAGES := $(patsubst %/package.xml,%,$(wildcard */package.xml))
 
 # $(call install_missing,PACKAGES): apt-get install those of PACKAGES that dpkg does not
-# report as installed; prints nothing and calls nothing when all are there.
+# report as installed (through sudo unless root, as in CI); prints nothing and calls nothing
+# when all are there.
 define install_missing
 	@missing=""; \
 	for p in $(1); do \
@@ -69,9 +70,8 @@ define install_missing
 	if [ -n "$$missing" ]; then \
 	  sudo=""; [ "$$(id -u)" = 0 ] || sudo=sudo; \
 	  echo "Installing missing Debian packages:$$missing"; \
-	  export DEBIAN_FRONTEND=noninteractive; \
-	  $$sudo -E apt-get update \
-	    && $$sudo -E apt-get install -y --no-install-recommends $$missing; \
+	  apt="$$sudo env DEBIAN_FRONTEND=noninteractive apt-get"; \
+	  $$apt update && $$apt install -y --no-install-recommends $$missing; \
 	fi
 endef
 
