@@ -1,11 +1,8 @@
+#include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/calibration_file.h>
-#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
 
 namespace body_scan {
 namespace {
@@ -73,10 +70,14 @@ PairCalibration loadCalibration(const std::string& path) {
           "' has no 'projector: planes:' list (one [a, b, c, d] per stripe)");
     for (const YAML::Node& plane : planes) {
       const std::vector<double> p = plane.as<std::vector<double>>();
-      if (p.size() != 4 || !std::isfinite(p[0] + p[1] + p[2] + p[3]))
+      // All four NaN = a stripe calibration never observed: it triangulates to nothing.
+      const bool missing = p.size() == 4 && std::isnan(p[0]) && std::isnan(p[1]) &&
+                           std::isnan(p[2]) && std::isnan(p[3]);
+      if (p.size() != 4 || (!missing && !std::isfinite(p[0] + p[1] + p[2] + p[3])))
         throw CalibrationFileError(
             "calibration file '" + path +
-            "': every projector plane must be 4 finite numbers [a, b, c, d]");
+            "': every projector plane must be 4 finite numbers [a, b, c, d], or "
+            "[.nan, .nan, .nan, .nan] for a stripe that was never observed");
       calibration.projector.planes.emplace_back(p[0], p[1], p[2], p[3]);
     }
     const int declared = root["projector"]["stripe_count"].as<int>(-1);
@@ -118,19 +119,16 @@ void saveCalibration(const std::string& path, const PairCalibration& calibration
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << root;
-  const std::filesystem::path target(path);
-  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
-  const std::string temporary = path + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream file(temporary);
-    file << "# Pair calibration (body_scan): camera part readable by camera_calibration_parsers;\n"
-            "# projector planes a x + b y + c z + d = 0 per stripe, camera optical frame, metres.\n"
-         << out.c_str() << "\n";
-    if (!file.flush())
-      throw CalibrationFileError("cannot write calibration file '" + temporary +
-                                 "': check the folder exists and is writable");
+  try {
+    writeFileAtomically(
+        path,
+        "# Pair calibration (body_scan): camera part readable by camera_calibration_parsers;\n"
+        "# projector planes a x + b y + c z + d = 0 per stripe, camera optical frame, metres;\n"
+        "# a stripe never observed during calibration is [.nan, .nan, .nan, .nan].\n" +
+            std::string(out.c_str()) + "\n");
+  } catch (const FileWriteError& e) {
+    throw CalibrationFileError(e.what());
   }
-  std::filesystem::rename(temporary, target);
 }
 
 }  // namespace body_scan

@@ -1,11 +1,9 @@
+#include <body_scan_driver/atomic_file.h>
 #include <body_scan_merge/ply_writer.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace body_scan {
@@ -26,21 +24,15 @@ size_t writePly(const std::string& path, const float* points, size_t count, size
     vertices.push_back({p[0], p[1], p[2], static_cast<uint8_t>(rgb >> 16),
                         static_cast<uint8_t>(rgb >> 8), static_cast<uint8_t>(rgb)});
   }
-  const std::filesystem::path target(path);
-  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
-  const std::string temporary = path + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream file(temporary, std::ios::binary);
-    file << "ply\nformat binary_little_endian 1.0\ncomment body_scan point cloud (metres)\n"
-         << "element vertex " << vertices.size() << "\n"
-         << "property float x\nproperty float y\nproperty float z\n"
-         << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
-    file.write(reinterpret_cast<const char*>(vertices.data()),
-               static_cast<std::streamsize>(vertices.size() * sizeof(Vertex)));
-    if (!file.flush())
-      throw std::runtime_error("cannot write '" + temporary + "': check the folder is writable");
-  }
-  std::filesystem::rename(temporary, target);
+  std::string header =
+      "ply\nformat binary_little_endian 1.0\ncomment body_scan point cloud "
+      "(metres)\nelement vertex " +
+      std::to_string(vertices.size()) +
+      "\nproperty float x\nproperty float y\nproperty float z\n"
+      "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+      "end_header\n";
+  header.append(reinterpret_cast<const char*>(vertices.data()), vertices.size() * sizeof(Vertex));
+  writeFileAtomically(path, header);
   return vertices.size();
 }
 
