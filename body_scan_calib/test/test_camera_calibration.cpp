@@ -111,7 +111,7 @@ TEST(CameraCalibration, SimulatedThreePosesMeetTheIssueBounds) {
   const SimulatedErrors e = calibrateSimulated(7, sigma);
   const PinholeCamera& c = e.result.camera;
   std::printf(
-      "seed 7: fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f rms %.4f px "
+      "[ figure ] simulated, seed 7: fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f rms %.4f px "
       "(truth 810 810 319.5 239.5 -0.08 0.03; noise %.2f px)\n",
       c.alpha, c.beta, c.u0, c.v0, c.k1, c.k2, e.result.rms_px, sigma);
   EXPECT_LE(e.focal_relative, 0.005);
@@ -143,11 +143,11 @@ TEST(CameraCalibration, SimulatedBoundsHoldForMostSeedsAndStdDevsMatchScatter) {
   const Eigen::Matrix<double, 7, 1> scatter =
       (sum_sq / seeds - mean.cwiseProduct(mean)).cwiseMax(0).cwiseSqrt();
   reported /= seeds;
-  std::printf("%d of %d seeds meet all bounds\n", passing, seeds);
+  std::printf("[ figure ] %d of %d seeds meet all bounds\n", passing, seeds);
   const char* names[7] = {"alpha", "beta", "gamma", "u0", "v0", "k1", "k2"};
   for (int p = 0; p < 7; ++p) {
-    std::printf("  %-5s scatter %.4g, mean reported std dev %.4g\n", names[p], scatter[p],
-                reported[p]);
+    std::printf("[ figure ]   %-5s scatter %.4g, mean reported std dev %.4g\n", names[p],
+                scatter[p], reported[p]);
     if (p == 2) {
       EXPECT_EQ(reported[p], 0.0);  // skew held at 0
       continue;

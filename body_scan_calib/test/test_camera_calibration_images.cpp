@@ -63,7 +63,8 @@ TEST(CameraCalibrationImages, OpenCvSampleImagesMatchCvCalibrateCamera) {
     std::vector<Eigen::Vector2d> corners;
     if (detectCheckerboardCorners(image, board, corners)) views.push_back(corners);
   }
-  std::printf("board found in %zu of %zu images\n", views.size(), images.size());
+  std::printf("[ figure ] OpenCV samples: board found in %zu of %zu images\n", views.size(),
+              images.size());
   ASSERT_GE(views.size(), 10u) << "corner detection fails on OpenCV's own sample images";
   const cv::Size size = images.front().size();
 
@@ -88,14 +89,14 @@ TEST(CameraCalibrationImages, OpenCvSampleImagesMatchCvCalibrateCamera) {
       cv::calibrateCamera(object_points, image_points, size, k, distortion, rotations, translations,
                           cv::CALIB_ZERO_TANGENT_DIST | cv::CALIB_FIX_K3);
   const PinholeCamera& c = ours.camera;
-  std::printf("ours:   fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f rms %.6f px\n", c.alpha,
-              c.beta, c.u0, c.v0, c.k1, c.k2, ours.rms_px);
-  std::printf("OpenCV: fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f rms %.6f px\n",
+  std::printf("[ figure ] ours:   fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f rms %.6f px\n",
+              c.alpha, c.beta, c.u0, c.v0, c.k1, c.k2, ours.rms_px);
+  std::printf("[ figure ] OpenCV: fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f rms %.6f px\n",
               k.at<double>(0, 0), k.at<double>(1, 1), k.at<double>(0, 2), k.at<double>(1, 2),
               distortion.at<double>(0), distortion.at<double>(1), opencv_rms);
-  std::printf("std devs: fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f\n", ours.std_devs[0],
-              ours.std_devs[1], ours.std_devs[3], ours.std_devs[4], ours.std_devs[5],
-              ours.std_devs[6]);
+  std::printf("[ figure ] our std devs: fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f\n",
+              ours.std_devs[0], ours.std_devs[1], ours.std_devs[3], ours.std_devs[4],
+              ours.std_devs[5], ours.std_devs[6]);
   EXPECT_NEAR(c.alpha, k.at<double>(0, 0), 0.005 * k.at<double>(0, 0));
   EXPECT_NEAR(c.beta, k.at<double>(1, 1), 0.005 * k.at<double>(1, 1));
   EXPECT_NEAR(c.u0, k.at<double>(0, 2), 0.005 * k.at<double>(0, 2));
@@ -161,10 +162,10 @@ TEST(CameraCalibrationImages, RenderedBoardsGiveAccurateCornersAndCalibration) {
   const double rms = std::sqrt(squared_sum / count);
   const CameraCalibrationResult result = calibrateCamera(views, board, truth.width, truth.height);
   const PinholeCamera& c = result.camera;
-  std::printf("rendered corners: rms error %.4f px, worst %.4f px over %zu corners\n", rms, worst,
-              count);
+  std::printf("[ figure ] rendered corners: rms error %.4f px, worst %.4f px over %zu corners\n",
+              rms, worst, count);
   std::printf(
-      "calibrated from renders: fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f "
+      "[ figure ] calibrated from renders: fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f "
       "rms %.4f px (truth 810 810 319.5 239.5 -0.08 0.03)\n",
       c.alpha, c.beta, c.u0, c.v0, c.k1, c.k2, result.rms_px);
   // The simulator samples the texture at pixel centres without antialiasing, so a nearly
