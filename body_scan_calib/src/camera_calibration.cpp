@@ -270,7 +270,10 @@ bool detectCheckerboardCorners(const cv::Mat& image, const Checkerboard& board,
     cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY);
   else
     gray = image;
-  if (gray.depth() != CV_8U) gray.convertTo(gray, CV_8U);
+  if (gray.depth() == CV_16U)
+    gray.convertTo(gray, CV_8U, 1.0 / 256.0);
+  else if (gray.depth() != CV_8U)
+    gray.convertTo(gray, CV_8U);
 
   std::vector<cv::Point2f> found;
   const cv::Size pattern(board.inner_cols, board.inner_rows);
@@ -444,6 +447,11 @@ CameraCalibrationResult calibrateCamera(
           std::to_string(image_corners_per_view[view].size()) + " corners but the " +
           std::to_string(board.inner_cols) + "x" + std::to_string(board.inner_rows) +
           " board has " + std::to_string(expected) + "; pass --cols/--rows as inner corners");
+  for (size_t view = 0; view < image_corners_per_view.size(); ++view)
+    for (const Eigen::Vector2d& corner : image_corners_per_view[view])
+      if (!corner.allFinite())
+        throw CameraCalibrationError("camera calibration: view " + std::to_string(view) +
+                                     " has a non-finite corner; pass only detected boards");
 
   const std::vector<Eigen::Vector2d> plane = planeXY(board);
   std::vector<Eigen::Matrix3d> homographies;

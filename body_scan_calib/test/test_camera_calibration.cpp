@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "camera_test_fixtures.h"
 
@@ -159,6 +160,27 @@ TEST(CameraCalibration, SimulatedBoundsHoldForMostSeedsAndStdDevsMatchScatter) {
   EXPECT_GE(passing, 90);
 }
 
+// With the skew estimated too (Zhang's full model), the zero true skew is found within its
+// reported uncertainty and the other bounds still hold.
+TEST(CameraCalibration, EstimatedSkewIsZeroWithinItsStdDev) {
+  const Checkerboard board = simulatedBoard();
+  const PinholeCamera truth = simulatorCamera();
+  const auto views = projectCorners(truth, board, threeSpreadPoses(board), 0.2, 7);
+  CameraCalibrationOptions options;
+  options.estimate_skew = true;
+  const CameraCalibrationResult result = calibrateCamera(views, board, 640, 480, options);
+  const PinholeCamera& c = result.camera;
+  std::printf(
+      "[ figure ] skew estimated, seed 7: gamma %.4f +- %.4f px, fx %.3f fy %.3f cx %.3f "
+      "cy %.3f rms %.4f px\n",
+      c.gamma, result.std_devs[2], c.alpha, c.beta, c.u0, c.v0, result.rms_px);
+  EXPECT_GT(result.std_devs[2], 0.0);
+  EXPECT_LT(std::abs(c.gamma), 3 * result.std_devs[2]);
+  EXPECT_LE(std::abs(c.alpha - truth.alpha) / truth.alpha, 0.005);
+  EXPECT_LE(std::abs(c.beta - truth.beta) / truth.beta, 0.005);
+  EXPECT_LE(result.rms_px, 1.2 * 0.2);
+}
+
 TEST(BoardPose, RecoversTruePoseOfKnownCamera) {
   const Checkerboard board = simulatedBoard();
   const PinholeCamera camera = simulatorCamera();
@@ -178,6 +200,9 @@ TEST(CameraCalibration, RejectsBadInputWithClearErrors) {
   EXPECT_THROW(calibrateCamera(two_views, board, 640, 480), CameraCalibrationError);
   auto views = projectCorners(camera, board, poses, 0, 0);
   views[1].pop_back();
+  EXPECT_THROW(calibrateCamera(views, board, 640, 480), CameraCalibrationError);
+  views = projectCorners(camera, board, poses, 0, 0);
+  views[2][5].x() = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(calibrateCamera(views, board, 640, 480), CameraCalibrationError);
   // Pure translations of a fronto-parallel board do not determine the intrinsics.
   std::vector<Eigen::Isometry3d> translated;

@@ -26,7 +26,8 @@ struct Checkerboard {
   std::vector<Eigen::Vector3d> objectPoints() const;
 };
 
-// Corners with subpixel refinement, row-major as objectPoints(); false if not found.
+// Corners with subpixel refinement, row-major as objectPoints(); false if not found. The
+// whole board with its white margin must be in view (OpenCV findChessboardCorners finds it).
 // The 180-degree ambiguity of the board is resolved so the first corner is the one nearer
 // the image's top-left.
 bool detectCheckerboardCorners(const cv::Mat& gray, const Checkerboard& board,
