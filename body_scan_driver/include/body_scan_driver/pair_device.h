@@ -47,8 +47,15 @@ class PairDevice {
   virtual std::optional<Eigen::Isometry3d> factoryPose() const { return std::nullopt; }
   // Called periodically by the driver: hardware reconnects here. Must not throw.
   virtual void poll() {}
-  // Thread-safe: may be called while capture() runs.
-  virtual DeviceStatus status() const = 0;
+  // Thread-safe: may be called while capture() runs. Not pure, so that devices written before
+  // diagnostics existed (test doubles, replay) still compile; they report no health.
+  virtual DeviceStatus status() const {
+    DeviceStatus status;
+    status.hardware_id = "none";
+    status.state = "UNKNOWN";
+    status.message = "this device reports no health";
+    return status;
+  }
 };
 
 // The virtual pair: renders the scene file seen by the pair file's camera.
