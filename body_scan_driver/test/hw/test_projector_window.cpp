@@ -2,8 +2,11 @@
 // the test on a free display number, ProjectorWindow shows every Gray code
 // pattern frame full-screen, the test grabs the X screen (XGetImage) after each and decodes
 // the grabs with the project's decoder: every pixel must decode to the stripe the projector
-// pixel belongs to. Skipped, with a message, when Xvfb is not installed.
+// pixel belongs to. The last test runs the driver's own path (UsbPairDevice -> sequencer ->
+// ProjectorWindow) with a camera that grabs the screen. Skipped, with a message, when Xvfb is
+// not installed.
 #include <body_scan_driver/hw/projector_window.h>
+#include <body_scan_driver/hw/usb_pair_device.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -13,6 +16,8 @@
 #include <chrono>
 #include <opencv2/imgproc.hpp>
 #include <thread>
+
+#include "fake_hardware.h"
 
 using namespace body_scan;
 using namespace body_scan::hw;
@@ -159,4 +164,58 @@ TEST_F(ProjectorWindowOnXvfb, MissingDisplayOrScreenIsAClearError) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("projector_display"), std::string::npos) << e.what();
   }
+}
+
+// A "camera" that sees exactly what the X screen shows: the driver's whole output path (the
+// UsbPairDevice's sequencer driving the real ProjectorWindow) observed through XGetImage.
+class ScreenGrabCamera : public StreamingCamera {
+ public:
+  explicit ScreenGrabCamera(std::string display) : display_(std::move(display)) {}
+  void startStreaming() override {}
+  void stopStreaming() override {}
+  void applySettings(const UvcSettings&) override {}
+  StreamStatistics statistics() const override { return {}; }
+  void discardReceived() override {}
+  cv::Mat nextFrame(double) override { return grabScreen(display_, 0); }
+
+ private:
+  std::string display_;
+};
+
+TEST_F(ProjectorWindowOnXvfb, UsbPairDeviceCapturesDecodableSetsThroughTheScreen) {
+  UsbPairSettings settings;
+  settings.camera = UsbDeviceMatch::parse("1234:5678", "SCREEN");
+  settings.projector_display = xvfb_->display();
+  settings.projector_screen = 0;
+  settings.sequencer.settle_frames = 0;  // XSync: the grab always sees the pattern just shown
+  HardwareAccess access;
+  auto bus = std::make_unique<fakes::FakeBus>();
+  bus->attached.push_back({0x1234, 0x5678, "SCREEN", 1, 2, true});
+  access.bus = std::move(bus);
+  const std::string display = xvfb_->display();
+  access.open_camera = [display](const UsbDeviceMatch&, const UvcSettings&) {
+    return std::unique_ptr<StreamingCamera>(new ScreenGrabCamera(display));
+  };
+  access.open_projector = [](const std::string& name, int screen) {
+    return std::unique_ptr<PatternProjector>(new ProjectorWindow(name, screen));
+  };
+  access.now_s = [] { return 0.0; };
+  UsbPairDevice device(settings, std::move(access));
+  device.poll();
+  ASSERT_EQ(device.state(), ConnectionState::kStreaming) << device.status().message;
+
+  const PatternCapture capture = device.capture(1);
+  DecoderParams params;
+  params.subpixel = false;
+  params.axis = DecoderParams::StripeAxis::kAlongRows;
+  StripeImage decoded;
+  StripeDecoder(device.layout(), params).decode(capture.frames, decoded);
+  int wrong = 0;
+  for (int v = 0; v < decoded.stripe.rows; ++v)
+    for (int u = 0; u < decoded.stripe.cols; ++u)
+      wrong += decoded.stripe(v, u) != stripeOfProjectorPixel(v, decoded.stripe.rows, 256);
+  std::cout << "[ figure ] UsbPairDevice on Xvfb (8 bits + inverses): " << wrong
+            << " wrong stripe ids of " << decoded.stripe.total() << " pixels\n";
+  EXPECT_EQ(wrong, 0);
+  EXPECT_EQ(cv::countNonZero(grabGrey(display)), 0) << "the projector is left dark";
 }
