@@ -147,7 +147,7 @@ PatternCapture UsbPairDevice::capture(uint32_t /*scan_id*/) {
   std::lock_guard<std::mutex> lock(device_mutex_);
   if (connection_.state() != ConnectionState::kStreaming)
     throw std::runtime_error(
-        "pair " + settings_.pair_id + " is " + toString(connection_.state()) +
+        std::string("not streaming (") + toString(connection_.state()) + ")" +
         (connection_.lastError().empty() ? "" : ": " + connection_.lastError()));
   try {
     PatternCapture capture = sequencer_->capture(*projector_, *camera_);

@@ -72,7 +72,7 @@ TEST(UsbPairDevice, MissingCameraIsAnErrorNamingItAndHowToListDevices) {
     rig.device->capture(1);
     FAIL() << "capture without a camera must throw";
   } catch (const std::runtime_error& e) {
-    EXPECT_TRUE(contains(e.what(), "ERROR")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "not streaming (ERROR)")) << e.what();
     EXPECT_TRUE(contains(e.what(), "1234:5678/NOSUCHCAM")) << e.what();
   }
 }
