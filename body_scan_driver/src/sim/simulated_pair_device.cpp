@@ -20,6 +20,13 @@ class SimulatedPairDevice : public PairDevice {
   std::optional<Eigen::Isometry3d> factoryPose() const override {
     return pair_.config().world_from_camera;
   }
+  DeviceStatus status() const override {
+    DeviceStatus status;
+    status.hardware_id = "simulator " + pair_.config().pair_id;
+    status.state = "STREAMING";
+    status.message = "simulated pair: always available";
+    return status;
+  }
 
  private:
   sim::VirtualPair pair_;
