@@ -8,11 +8,16 @@
 namespace body_scan::calib::rig {
 namespace {
 
-Eigen::Isometry3d boardPose(double x, double y, double z, double tilt_x_deg, double tilt_y_deg) {
+// Board centre (camera frame, metres), tilts about the camera's x and y axes and an in-plane
+// roll (degrees). The roll keeps the checker edges off the pixel grid: edges along a pixel row
+// alias coherently and bias the corners by up to half a pixel.
+Eigen::Isometry3d boardPose(double x, double y, double z, double tilt_x_deg, double tilt_y_deg,
+                            double roll_deg) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(x, y, z);
   pose.linear() = (Eigen::AngleAxisd(tilt_x_deg * M_PI / 180, Eigen::Vector3d::UnitX()) *
-                   Eigen::AngleAxisd(tilt_y_deg * M_PI / 180, Eigen::Vector3d::UnitY()))
+                   Eigen::AngleAxisd(tilt_y_deg * M_PI / 180, Eigen::Vector3d::UnitY()) *
+                   Eigen::AngleAxisd(roll_deg * M_PI / 180, Eigen::Vector3d::UnitZ()))
                       .toRotationMatrix();
   return pose;
 }
@@ -20,10 +25,11 @@ Eigen::Isometry3d boardPose(double x, double y, double z, double tilt_x_deg, dou
 }  // namespace
 
 std::vector<Eigen::Isometry3d> defaultBoardPoses() {
-  return {boardPose(0.0, -0.06, 1.05, 18, 12),   boardPose(0.0, 0.07, 0.92, -15, -12),
-          boardPose(0.02, -0.14, 1.30, 10, -18), boardPose(-0.02, 0.12, 1.00, -8, 20),
-          boardPose(0.0, 0.0, 1.15, 0, 25),      boardPose(0.0, -0.20, 1.45, 12, 0),
-          boardPose(0.0, 0.14, 0.88, -12, 5)};
+  return {boardPose(0.0, -0.02, 1.00, 15, 10, 20),   boardPose(0.0, 0.02, 1.00, -15, -10, -20),
+          boardPose(0.03, -0.12, 1.25, 10, -15, 20), boardPose(-0.03, 0.10, 1.20, -10, 15, -20),
+          boardPose(0.0, 0.0, 1.10, 0, 25, 20),      boardPose(0.0, -0.20, 1.45, 10, 0, -20),
+          boardPose(0.0, 0.18, 1.45, -10, 5, 20),    boardPose(0.05, -0.05, 1.30, 20, 0, -15),
+          boardPose(-0.05, 0.05, 0.97, -5, -20, 15)};
 }
 
 std::shared_ptr<sim::Scene> boardScene(const ReferenceBoard& board,
@@ -36,9 +42,12 @@ std::shared_ptr<sim::Scene> boardScene(const ReferenceBoard& board,
       world_from_board.translation(), -world_from_board.linear().col(2),
       world_from_board.linear().col(0), board.inner_cols + 1, board.inner_rows + 1,
       board.square_size, board.light_albedo, board.dark_albedo));
-  const Eigen::Vector3d wall_point = world_from_camera * Eigen::Vector3d(0, 0, 2.5);
-  scene->add(std::make_unique<sim::Plane>(wall_point, -world_from_camera.linear().col(2),
-                                          sim::Material{0.8, {0.9, 0.9, 0.9}}));
+  // The board is mounted on a larger white panel 3 mm behind it: the light border a checker
+  // detector needs (the board's own pixels are the only ones the calibration lifts).
+  const double panel_half_extent = 0.5 * (board.inner_cols + 1) * board.square_size + 0.1;
+  scene->add(std::make_unique<sim::Plane>(
+      world_from_board * Eigen::Vector3d(0, 0, 0.003), -world_from_board.linear().col(2),
+      sim::Material{board.light_albedo, {0.9, 0.9, 0.9}}, panel_half_extent));
   return scene;
 }
 

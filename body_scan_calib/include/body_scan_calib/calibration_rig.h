@@ -20,7 +20,7 @@ namespace body_scan::calib::rig {
 std::vector<Eigen::Isometry3d> defaultBoardPoses();
 
 // A scene with the printed board at `board_center_in_camera` (board x along the pose's x, the
-// board facing the camera) and a white wall 1 m behind it (the light border a checker detector
+// board facing the camera), mounted on a larger white panel (the light border a checker detector
 // needs around the board).
 std::shared_ptr<sim::Scene> boardScene(const ReferenceBoard& board,
                                        const Eigen::Isometry3d& board_center_in_camera,

@@ -27,7 +27,7 @@ struct PairCalibrationError : std::runtime_error {
 // The printed reference board (inner corners, square size in metres, printed albedos).
 struct ReferenceBoard {
   int inner_cols = 9, inner_rows = 6;
-  double square_size = 0.06;
+  double square_size = 0.05;
   double light_albedo = 0.85, dark_albedo = 0.3;
 };
 
