@@ -21,7 +21,7 @@ StripePlaneProjector PinholeProjector::toStripePlanes(int stripe_count) const {
   // One overall sign so the planes face like the fitted ones (orientation of the suite).
   const Eigen::Vector4d& middle = planes.planes[stripe_count / 2];
   const int dominant = std::abs(middle[1]) > std::abs(middle[0]) ? 1 : 0;
-  if (middle[dominant] < 0)
+  if (middle[dominant] > 0)
     for (Eigen::Vector4d& plane : planes.planes) plane = -plane;
   return planes;
 }

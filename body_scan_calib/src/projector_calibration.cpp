@@ -101,7 +101,7 @@ PlaneFit fitPlane(const std::vector<Eigen::Vector3d>& points) {
 
 Eigen::Vector4d orientPlane(const Eigen::Vector4d& plane) {
   const int dominant = std::abs(plane[1]) > std::abs(plane[0]) ? 1 : 0;
-  return plane[dominant] < 0 ? Eigen::Vector4d(-plane) : plane;
+  return plane[dominant] > 0 ? Eigen::Vector4d(-plane) : plane;
 }
 
 ProjectorCalibrationResult calibrateStripePlanes(

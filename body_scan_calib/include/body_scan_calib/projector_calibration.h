@@ -80,8 +80,8 @@ ProjectorCalibrationResult calibrateStripePlanes(
     const PinholeCamera& camera, const std::vector<ReferencePlaneObservation>& observations,
     const ProjectorCalibrationOptions& options = {});
 
-// Orients plane to the suite's sign convention (normal with a non-negative dominant y or x
-// component, as the factory calibration), so that neighbouring planes interpolate.
+// Orients plane to the suite's sign convention (normal with a non-positive dominant y or x
+// component, as the simulator's factory planes), so that neighbouring planes interpolate.
 Eigen::Vector4d orientPlane(const Eigen::Vector4d& plane);
 
 }  // namespace body_scan::calib
