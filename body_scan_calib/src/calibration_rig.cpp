@@ -29,7 +29,8 @@ std::vector<Eigen::Isometry3d> defaultBoardPoses() {
           boardPose(0.03, -0.12, 1.25, 10, -15, 20), boardPose(-0.03, 0.10, 1.20, -10, 15, -20),
           boardPose(0.0, 0.0, 1.10, 0, 25, 20),      boardPose(0.0, -0.20, 1.45, 10, 0, -20),
           boardPose(0.0, 0.18, 1.45, -10, 5, 20),    boardPose(0.05, -0.05, 1.30, 20, 0, -15),
-          boardPose(-0.05, 0.05, 0.97, -5, -20, 15)};
+          boardPose(-0.05, 0.05, 0.97, -5, -20, 15), boardPose(0.0, 0.0, 0.85, -25, 10, 15),
+          boardPose(0.0, 0.02, 0.88, -20, -15, -20)};
 }
 
 std::shared_ptr<sim::Scene> boardScene(const ReferenceBoard& board,
@@ -52,11 +53,11 @@ std::shared_ptr<sim::Scene> boardScene(const ReferenceBoard& board,
 }
 
 std::vector<Eigen::Vector3d> defaultSphereCenters() {
-  return {{-0.24, -0.16, 1.00},
-          {0.24, -0.16, 1.00},
+  return {{-0.30, -0.22, 1.00},
+          {0.30, -0.22, 1.00},
           {0.0, 0.0, 0.95},
-          {-0.24, 0.16, 1.00},
-          {0.24, 0.16, 1.00}};
+          {-0.30, 0.22, 1.00},
+          {0.30, 0.22, 1.00}};
 }
 
 std::shared_ptr<sim::Scene> sphereScene(const std::vector<Eigen::Vector3d>& centers_in_camera,

