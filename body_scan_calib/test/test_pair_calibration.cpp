@@ -75,10 +75,11 @@ TEST(PairCalibration, StripePlanesMatchTheSimulatorsTruePlanes) {
               fitted, mean_angle, worst_angle, worst_offset * 1e3);
   // The stripes a 1 m scene uses (spheres and body at 0.9-1.1 m) are all calibrated.
   EXPECT_GE(fitted, 150);
-  // The outermost stripes are seen on exactly 3 poses near the image border: less certain.
-  EXPECT_LT(mean_angle, 0.1);
-  EXPECT_LT(worst_angle, 0.2);
-  EXPECT_LT(worst_offset, 0.002);
+  // Bounds the joint refinement is needed for (without it: mean 0.075 deg, offset 1.1 mm).
+  EXPECT_LT(mean_angle, 0.06);
+  EXPECT_LT(worst_angle, 0.1);
+  EXPECT_LT(worst_offset, 0.0005);
+  EXPECT_FALSE(c.outcome.refinement_summary.empty());
   // Camera (OpenCV stand-in) close to the truth: focal length within 1%.
   EXPECT_NEAR(c.outcome.calibration.camera.alpha / c.config.camera.alpha, 1.0, 0.01);
   EXPECT_LT(c.outcome.camera.rms_px, 0.3);
