@@ -306,6 +306,7 @@ std::string accuracyReportYaml(const PairCalibrationOutcome& outcome,
                                const std::vector<AccuracyEvaluation>& evaluations,
                                const std::vector<std::string>& notes) {
   YAML::Emitter out;
+  out.SetDoublePrecision(6);
   out << YAML::BeginMap;
   out << YAML::Key << "pair_id" << YAML::Value << outcome.calibration.pair_id;
   out << YAML::Key << "notes" << YAML::Value << YAML::BeginSeq;
