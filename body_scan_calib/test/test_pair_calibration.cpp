@@ -3,6 +3,7 @@
 // NaN, the calibration file read back by loadCalibration, and the sphere table (eq 3.31) of the
 // plane model against the pinhole-projector baseline.
 #include <body_scan_calib/calibration_rig.h>
+#include <body_scan_calib/capture_folder.h>
 #include <body_scan_calib/pair_calibration_pipeline.h>
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/stripe_decoder.h>
@@ -138,6 +139,33 @@ TEST(PairCalibration, TheCalibrationFileIsReadByLoadCalibration) {
     EXPECT_EQ(loaded.projector.planes[i].allFinite(),
               c.outcome.calibration.projector.planes[i].allFinite());
   std::filesystem::remove_all(std::filesystem::path(path).parent_path());
+}
+
+TEST(PairCalibration, OfflineFromAnImageFolderGivesTheLiveResult) {
+  const Calibrated& c = calibrated();
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / ("calib_offline_" + std::to_string(::getpid()));
+  for (size_t pose = 0; pose < c.pose_frames.size(); ++pose)
+    savePatternFrames((folder / poseFolderName(static_cast<int>(pose))).string(),
+                      c.pose_frames[pose]);
+  const PatternLayout layout(8, true);
+  const auto loaded = loadPoseCaptures(folder.string(), layout);
+  ASSERT_EQ(loaded.size(), c.pose_frames.size());
+  PairCalibrationOptions options;
+  options.joint_refinement = false;  // the images are what is under test, not the refinement
+  const PairCalibrationOutcome offline = calibratePair(loaded, layout, options);
+  const PairCalibrationOutcome live = calibratePair(c.pose_frames, layout, options);
+  EXPECT_EQ(offline.planes.missing_stripes, live.planes.missing_stripes);
+  EXPECT_DOUBLE_EQ(offline.calibration.camera.alpha, live.calibration.camera.alpha);
+  for (int i = 0; i < 256; ++i)
+    if (live.calibration.projector.planes[i].allFinite()) {
+      EXPECT_EQ(offline.calibration.projector.planes[i], live.calibration.projector.planes[i]);
+    }
+  // A folder without poses, or with a frame missing, is an error naming the file.
+  std::filesystem::remove(folder / "pose_01" / "frame_05.png");
+  EXPECT_THROW(loadPoseCaptures(folder.string(), layout), std::runtime_error);
+  std::filesystem::remove_all(folder);
+  EXPECT_THROW(loadPoseCaptures(folder.string(), layout), std::runtime_error);
 }
 
 TEST(PairCalibration, SphereTablePlaneModelBeatsThePinholeBaseline) {

@@ -3,6 +3,7 @@
 // simulator, or offline from an image folder. Writes the calibration file, the accuracy report
 // (YAML) and the Fig 3.6 plot (PNG), all atomically.
 #include <body_scan_calib/calibration_rig.h>
+#include <body_scan_calib/capture_folder.h>
 #include <body_scan_calib/pair_calibration_pipeline.h>
 #include <body_scan_calib/projector_plot.h>
 #include <body_scan_driver/atomic_file.h>
@@ -86,35 +87,6 @@ Arguments parse(int argc, char** argv) {
 
 void progress(const std::string& message) { std::cout << "  " << message << std::endl; }
 
-std::string frameName(size_t index) {
-  char name[32];
-  std::snprintf(name, sizeof(name), "frame_%02zu.png", index);
-  return name;
-}
-
-void saveFrames(const fs::path& folder, const std::vector<cv::Mat>& frames) {
-  for (size_t f = 0; f < frames.size(); ++f) {
-    std::vector<uchar> png;
-    cv::imencode(".png", frames[f], png);
-    writeFileAtomically((folder / frameName(f)).string(), std::string(png.begin(), png.end()));
-  }
-}
-
-std::vector<cv::Mat> loadFrames(const fs::path& folder, const PatternLayout& layout) {
-  std::vector<cv::Mat> frames;
-  for (int f = 0; f < layout.frameCount(); ++f) {
-    const fs::path file = folder / frameName(f);
-    cv::Mat frame = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
-    if (frame.empty())
-      throw std::runtime_error("cannot read " + file.string() + ": a pattern set of " +
-                               std::to_string(layout.bits()) + " bits with inverse frames has " +
-                               std::to_string(layout.frameCount()) +
-                               " frames frame_00.png..; check the folder or --bits");
-    frames.push_back(frame);
-  }
-  return frames;
-}
-
 void writePng(const std::string& path, const cv::Mat& image) {
   std::vector<uchar> png;
   cv::imencode(".png", image, png);
@@ -157,11 +129,11 @@ int main(int argc, char** argv) {
             config, calib::rig::boardScene(options.board, poses[pose], config.world_from_camera));
         pose_frames.push_back(calib::rig::captureAveraged(pair, arguments.exposures,
                                                           static_cast<uint32_t>(1000 * pose)));
-        if (!arguments.save_images.empty()) {
-          char folder[32];
-          std::snprintf(folder, sizeof(folder), "pose_%02zu", pose);
-          saveFrames(fs::path(arguments.save_images) / folder, pose_frames.back());
-        }
+        if (!arguments.save_images.empty())
+          calib::savePatternFrames(
+              (fs::path(arguments.save_images) / calib::poseFolderName(static_cast<int>(pose)))
+                  .string(),
+              pose_frames.back());
       }
       std::cout << "placing the five evaluation spheres, capturing " << arguments.exposures
                 << " exposures" << std::endl;
@@ -171,25 +143,17 @@ int main(int argc, char** argv) {
       sphere_frames = calib::rig::captureAveraged(sphere_pair, arguments.exposures, 90000);
       sphere_single_frames = calib::rig::captureAveraged(sphere_pair, 1, 99000);
       if (!arguments.save_images.empty())
-        saveFrames(fs::path(arguments.save_images) / "spheres", sphere_frames);
+        calib::savePatternFrames((fs::path(arguments.save_images) / "spheres").string(),
+                                 sphere_frames);
       true_centers = nominal_centers;  // the simulator places them exactly
       truth = std::make_unique<PairCalibration>(sphere_pair.factoryCalibration());
     } else {
       layout = std::make_unique<PatternLayout>(arguments.bits, true);
-      for (int pose = 0;; ++pose) {
-        char folder[32];
-        std::snprintf(folder, sizeof(folder), "pose_%02d", pose);
-        const fs::path path = fs::path(arguments.images) / folder;
-        if (!fs::is_directory(path)) break;
-        std::cout << "reading " << path.string() << std::endl;
-        pose_frames.push_back(loadFrames(path, *layout));
-      }
-      if (pose_frames.empty())
-        throw std::runtime_error("no " + (fs::path(arguments.images) / "pose_00").string() +
-                                 ": the folder needs pose_00, pose_01, ... with the pattern "
-                                 "frames frame_00.png.. of each board pose");
+      std::cout << "reading " << arguments.images << std::endl;
+      pose_frames = calib::loadPoseCaptures(arguments.images, *layout);
       const fs::path spheres = fs::path(arguments.images) / "spheres";
-      if (fs::is_directory(spheres)) sphere_frames = loadFrames(spheres, *layout);
+      if (fs::is_directory(spheres))
+        sphere_frames = calib::loadPatternFrames(spheres.string(), *layout);
     }
 
     std::cout << "calibrating from " << pose_frames.size() << " reference-plane poses" << std::endl;
