@@ -139,6 +139,18 @@ TEST(PairCalibration, TheCalibrationFileIsReadByLoadCalibration) {
     EXPECT_EQ(loaded.projector.planes[i].allFinite(),
               c.outcome.calibration.projector.planes[i].allFinite());
   std::filesystem::remove_all(std::filesystem::path(path).parent_path());
+
+  // A never-observed stripe triangulates to nothing, a calibrated one to points.
+  const Triangulator triangulator(loaded);
+  std::vector<float> xyz(640 * 480 * 3);
+  const int missing = c.outcome.planes.missing_stripes.front();
+  EXPECT_EQ(triangulator.triangulate(cv::Mat1f(480, 640, missing + 0.5f), xyz.data(), 3), 0u);
+  EXPECT_GT(triangulator.triangulate(cv::Mat1f(480, 640, 128.5f), xyz.data(), 3), 0u);
+
+  // The checked-in calibration of docs/calibration is readable too.
+  const PairCalibration checked_in = loadCalibration(CALIB_DOCS_DIR "/pair.yaml");
+  EXPECT_EQ(checked_in.projector.stripeCount(), 256);
+  EXPECT_NEAR(checked_in.camera.alpha, c.config.camera.alpha, 0.01 * c.config.camera.alpha);
 }
 
 TEST(PairCalibration, OfflineFromAnImageFolderGivesTheLiveResult) {
