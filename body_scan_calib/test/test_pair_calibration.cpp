@@ -72,8 +72,9 @@ TEST(PairCalibration, StripePlanesMatchTheSimulatorsTruePlanes) {
     worst_offset = std::max(worst_offset, std::abs(e[3] - t[3]));
   }
   mean_angle /= std::max(1, fitted);
-  std::printf("fitted %d planes; normal angle mean %.4f worst %.4f deg, worst offset %.3f mm\n",
-              fitted, mean_angle, worst_angle, worst_offset * 1e3);
+  std::printf(
+      "[ figure ] fitted %d planes; normal angle mean %.4f worst %.4f deg, worst offset %.3f mm\n",
+      fitted, mean_angle, worst_angle, worst_offset * 1e3);
   // The stripes a 1 m scene uses (spheres and body at 0.9-1.1 m) are all calibrated.
   EXPECT_GE(fitted, 150);
   // Bounds the joint refinement is needed for (without it: mean 0.075 deg, offset 1.1 mm).
@@ -194,15 +195,16 @@ TEST(PairCalibration, SphereTablePlaneModelBeatsThePinholeBaseline) {
   ASSERT_EQ(evaluation.spheres.size(), 5u);
   double plane_center_error = 0, pinhole_center_error = 0;
   for (const SphereAccuracy& row : evaluation.spheres) {
-    std::printf("sphere %d: E_s plane %.4f pinhole %.4f mm^2; centre error %.2f / %.2f mm\n",
-                row.number, row.plane_model.e_s_m2 * 1e6, row.pinhole_model.e_s_m2 * 1e6,
-                row.plane_center_error_m * 1e3, row.pinhole_center_error_m * 1e3);
+    std::printf(
+        "[ figure ] sphere %d: E_s plane %.4f pinhole %.4f mm^2; centre error %.2f / %.2f mm\n",
+        row.number, row.plane_model.e_s_m2 * 1e6, row.pinhole_model.e_s_m2 * 1e6,
+        row.plane_center_error_m * 1e3, row.pinhole_center_error_m * 1e3);
     EXPECT_LE(row.plane_model.e_s_m2, 0.20e-6) << "sphere " << row.number;
     EXPECT_GT(row.plane_model.points, 500);
     plane_center_error += row.plane_center_error_m / 5;
     pinhole_center_error += row.pinhole_center_error_m / 5;
   }
-  std::printf("mean E_s plane %.4f pinhole %.4f mm^2 (%.1f%% lower)\n",
+  std::printf("[ figure ] mean E_s plane %.4f pinhole %.4f mm^2 (%.1f%% lower)\n",
               evaluation.meanPlaneEs() * 1e6, evaluation.meanPinholeEs() * 1e6,
               evaluation.improvementPercent());
   // Must show: at least 20% lower on average (the thesis reports 19-44% per sphere).
