@@ -1,0 +1,110 @@
+// Calibration of one projector-camera pair from reference-plane poses, end to end (thesis
+// sec. 3.3): camera + board poses from the checker corners, projector planes (eq 3.30 + plane
+// fits), the pinhole-projector baseline from the same data, and the sphere accuracy evaluation
+// of both models (sec. 3.4.2) with its YAML report and the Fig 3.6 plot.
+#pragma once
+
+#include <body_scan_calib/pinhole_projector.h>
+#include <body_scan_calib/projector_calibration.h>
+#include <body_scan_calib/sphere_accuracy.h>
+#include <body_scan_driver/gray_code.h>
+#include <body_scan_driver/pair_model.h>
+
+#include <Eigen/Geometry>
+#include <functional>
+#include <opencv2/core/mat.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace body_scan::calib {
+
+struct PairCalibrationError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The printed reference board (inner corners, square size in metres, printed albedos).
+struct ReferenceBoard {
+  int inner_cols = 9, inner_rows = 6;
+  double square_size = 0.05;
+  double light_albedo = 0.85, dark_albedo = 0.3;
+};
+
+struct CameraAndBoardPoses {
+  PinholeCamera camera;
+  std::vector<Eigen::Isometry3d> board_to_camera;  // board frame at the first inner corner
+  std::vector<std::vector<Eigen::Vector2d>> corners;
+  double rms_px = 0;
+};
+
+// Camera intrinsics and the pose of the board in every image (8-bit grey images of the board
+// under the projector's all-lit frame). Throws PairCalibrationError naming the image whose
+// corners were not found.
+CameraAndBoardPoses estimateCameraAndBoardPoses(const std::vector<cv::Mat>& board_images,
+                                                const ReferenceBoard& board);
+
+// Pixels of the board inside its inner corners plus half a square (the printed area that is
+// surely board: the board's own border and background are excluded).
+cv::Mat1b boardRegion(const PinholeCamera& camera, const Eigen::Isometry3d& board_to_camera,
+                      const ReferenceBoard& board);
+
+using Progress = std::function<void(const std::string&)>;
+
+struct PairCalibrationOptions {
+  ReferenceBoard board;
+  ProjectorCalibrationOptions projector;
+  bool joint_refinement = true;  // Ceres: camera + board poses + planes together
+  std::string pair_id = "pair";
+};
+
+struct PairCalibrationOutcome {
+  CameraAndBoardPoses camera;
+  ProjectorCalibrationResult planes;
+  PinholeProjectorFit pinhole;
+  PairCalibration calibration;          // the plane model (approach iii): what is saved
+  PairCalibration pinhole_calibration;  // the baseline (approach i), planes p1 - s p2
+  std::string refinement_summary;       // empty when not refined
+};
+
+// pose_frames: per reference-plane pose the pattern set's frames (CV_8UC1, PatternLayout order).
+PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& pose_frames,
+                                     const PatternLayout& layout,
+                                     const PairCalibrationOptions& options,
+                                     const Progress& progress = {});
+
+struct SphereAccuracy {
+  int number;  // 1..5, top left to bottom right (Fig 3.7)
+  IdealSphereFit plane_model, pinhole_model;
+  double plane_center_error_m = std::numeric_limits<double>::quiet_NaN();  // vs truth, if known
+  double pinhole_center_error_m = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct AccuracyEvaluation {
+  int exposures = 1;  // frames averaged per pattern
+  double radius_m = 0.025;
+  std::vector<SphereAccuracy> spheres;
+  double meanPlaneEs() const;
+  double meanPinholeEs() const;
+  // (pinhole - plane) / pinhole of the mean E_s, percent
+  double improvementPercent() const;
+};
+
+// Decodes the sphere capture, triangulates it with both models and fits the ideal spheres.
+// nominal_centers place the spheres (to within capture_radius); true_centers (optional, the
+// simulator's) add the centre error. Throws PairCalibrationError if a sphere has no points.
+AccuracyEvaluation evaluateSphereAccuracy(const PairCalibration& plane_model,
+                                          const PairCalibration& pinhole_model,
+                                          const std::vector<cv::Mat>& frames,
+                                          const PatternLayout& layout,
+                                          const std::vector<Eigen::Vector3d>& nominal_centers,
+                                          const std::vector<Eigen::Vector3d>& true_centers,
+                                          double radius, int exposures);
+
+// The YAML report: calibration summary (camera, planes, missing stripes, pinhole fit) and one
+// accuracy table per capture protocol (Table 3.2 layout, E_s in mm^2), plus free-text notes.
+std::string accuracyReportYaml(const PairCalibrationOutcome& outcome,
+                               const std::vector<AccuracyEvaluation>& evaluations,
+                               const std::vector<std::string>& notes);
+
+}  // namespace body_scan::calib

@@ -1,0 +1,347 @@
+#include <body_scan_calib/joint_refinement.h>
+#include <body_scan_calib/pair_calibration_pipeline.h>
+#include <body_scan_driver/stripe_decoder.h>
+#include <body_scan_driver/triangulation.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <numeric>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+namespace body_scan::calib {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::vector<Eigen::Vector3d> triangulateCloud(const PairCalibration& calibration,
+                                              const cv::Mat1f& coordinate) {
+  const Triangulator triangulator(calibration);
+  std::vector<float> xyz(coordinate.total() * 3);
+  triangulator.triangulate(coordinate, xyz.data(), 3);
+  std::vector<Eigen::Vector3d> cloud;
+  for (size_t i = 0; i < coordinate.total(); ++i)
+    if (std::isfinite(xyz[3 * i + 2]))
+      cloud.emplace_back(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+  return cloud;
+}
+
+}  // namespace
+
+// TODO(merge): calib::calibrateCamera. Stand-in until the camera part lands: OpenCV detects the
+// corners and calibrates with the suite's model (2-term radial, no tangential, k3 = 0).
+CameraAndBoardPoses estimateCameraAndBoardPoses(const std::vector<cv::Mat>& board_images,
+                                                const ReferenceBoard& board) {
+  if (board_images.size() < 3)
+    throw PairCalibrationError("camera calibration needs >= 3 board images, got " +
+                               std::to_string(board_images.size()));
+  const cv::Size pattern(board.inner_cols, board.inner_rows);
+  std::vector<cv::Point3f> object;
+  for (int row = 0; row < board.inner_rows; ++row)
+    for (int col = 0; col < board.inner_cols; ++col)
+      object.emplace_back(static_cast<float>(col * board.square_size),
+                          static_cast<float>(row * board.square_size), 0.f);
+  std::vector<std::vector<cv::Point3f>> object_points;
+  std::vector<std::vector<cv::Point2f>> image_points;
+  for (size_t i = 0; i < board_images.size(); ++i) {
+    std::vector<cv::Point2f> corners;
+    if (!cv::findChessboardCorners(board_images[i], pattern, corners,
+                                   cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE))
+      throw PairCalibrationError(
+          "reference-plane pose " + std::to_string(i) + ": the " + std::to_string(pattern.width) +
+          "x" + std::to_string(pattern.height) +
+          " inner checker corners were not found; keep the whole board in view, lit, and check "
+          "the board size (inner corners, not squares)");
+    cv::cornerSubPix(board_images[i], corners, cv::Size(5, 5), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-4));
+    image_points.push_back(corners);
+    object_points.push_back(object);
+  }
+  cv::Mat camera_matrix, distortion;
+  std::vector<cv::Mat> rvecs, tvecs;
+  CameraAndBoardPoses result;
+  result.rms_px =
+      cv::calibrateCamera(object_points, image_points, board_images[0].size(), camera_matrix,
+                          distortion, rvecs, tvecs, cv::CALIB_ZERO_TANGENT_DIST | cv::CALIB_FIX_K3);
+  PinholeCamera& camera = result.camera;
+  camera.width = board_images[0].cols;
+  camera.height = board_images[0].rows;
+  camera.alpha = camera_matrix.at<double>(0, 0);
+  camera.beta = camera_matrix.at<double>(1, 1);
+  camera.gamma = camera_matrix.at<double>(0, 1);
+  camera.u0 = camera_matrix.at<double>(0, 2);
+  camera.v0 = camera_matrix.at<double>(1, 2);
+  camera.k1 = distortion.at<double>(0);
+  camera.k2 = distortion.at<double>(1);
+  for (size_t i = 0; i < rvecs.size(); ++i) {
+    cv::Mat rotation;
+    cv::Rodrigues(rvecs[i], rotation);
+    Eigen::Matrix3d r;
+    Eigen::Vector3d t;
+    cv::cv2eigen(rotation, r);
+    cv::cv2eigen(tvecs[i], t);
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = r;
+    pose.translation() = t;
+    result.board_to_camera.push_back(pose);
+    std::vector<Eigen::Vector2d> corners;
+    for (const cv::Point2f& p : image_points[i]) corners.emplace_back(p.x, p.y);
+    result.corners.push_back(corners);
+  }
+  return result;
+}
+
+cv::Mat1b boardRegion(const PinholeCamera& camera, const Eigen::Isometry3d& board_to_camera,
+                      const ReferenceBoard& board) {
+  // Outline sampled densely so that lens distortion bends it like the image.
+  const double s = board.square_size;
+  const Eigen::Vector2d low(-0.5 * s, -0.5 * s);
+  const Eigen::Vector2d high((board.inner_cols - 0.5) * s, (board.inner_rows - 0.5) * s);
+  const Eigen::Vector2d outline[] = {low, {high.x(), low.y()}, high, {low.x(), high.y()}};
+  std::vector<cv::Point> polygon;
+  constexpr int kSamplesPerEdge = 32;
+  for (int edge = 0; edge < 4; ++edge)
+    for (int k = 0; k < kSamplesPerEdge; ++k) {
+      const Eigen::Vector2d p =
+          outline[edge] + (outline[(edge + 1) % 4] - outline[edge]) * k / kSamplesPerEdge;
+      const Eigen::Vector2d pixel =
+          camera.project(board_to_camera * Eigen::Vector3d(p.x(), p.y(), 0));
+      polygon.emplace_back(static_cast<int>(std::lround(pixel.x())),
+                           static_cast<int>(std::lround(pixel.y())));
+    }
+  cv::Mat1b region = cv::Mat1b::zeros(camera.height, camera.width);
+  cv::fillPoly(region, std::vector<std::vector<cv::Point>>{polygon}, cv::Scalar(255));
+  return region;
+}
+
+PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& pose_frames,
+                                     const PatternLayout& layout,
+                                     const PairCalibrationOptions& options,
+                                     const Progress& progress) {
+  auto report = [&](const std::string& message) {
+    if (progress) progress(message);
+  };
+  if (pose_frames.size() < 3)
+    throw PairCalibrationError("pair calibration needs >= 3 reference-plane poses, got " +
+                               std::to_string(pose_frames.size()) +
+                               ": capture the board in more poses");
+  PairCalibrationOutcome outcome;
+  std::vector<cv::Mat> board_images;
+  for (size_t pose = 0; pose < pose_frames.size(); ++pose) {
+    try {
+      checkFrames(layout, pose_frames[pose]);
+    } catch (const std::invalid_argument& error) {
+      throw PairCalibrationError("reference-plane pose " + std::to_string(pose) + ": " +
+                                 error.what());
+    }
+    board_images.push_back(pose_frames[pose][PatternLayout::litFrame()]);
+  }
+  report("camera: corners of " + std::to_string(board_images.size()) + " poses");
+  outcome.camera = estimateCameraAndBoardPoses(board_images, options.board);
+  report("camera: reprojection rms " + std::to_string(outcome.camera.rms_px) + " px");
+
+  const StripeDecoder decoder(layout);
+  std::vector<ReferencePlaneObservation> observations;
+  for (size_t pose = 0; pose < pose_frames.size(); ++pose) {
+    StripeImage stripes;
+    decoder.decode(pose_frames[pose], stripes);
+    observations.push_back(
+        {outcome.camera.board_to_camera[pose], stripes.coordinate.clone(),
+         boardRegion(outcome.camera.camera, outcome.camera.board_to_camera[pose], options.board)});
+    report("projector: decoded pose " + std::to_string(pose + 1) + "/" +
+           std::to_string(pose_frames.size()));
+  }
+  ProjectorCalibrationOptions projector_options = options.projector;
+  projector_options.stripe_count = layout.stripeCount();
+  outcome.planes = calibrateStripePlanes(outcome.camera.camera, observations, projector_options);
+  report(
+      "projector: " + std::to_string(layout.stripeCount() - outcome.planes.missing_stripes.size()) +
+      " planes fitted, " + std::to_string(outcome.planes.missing_stripes.size()) +
+      " stripes seen on fewer than " + std::to_string(projector_options.min_poses_per_stripe) +
+      " poses (stored as NaN), rms " + std::to_string(outcome.planes.rms_m * 1e3) + " mm");
+
+  if (options.joint_refinement) {
+    report("joint refinement of camera, board poses and planes (Ceres)...");
+    JointRefinementInput input;
+    input.camera = outcome.camera.camera;
+    input.board_to_camera = outcome.camera.board_to_camera;
+    input.corners = outcome.camera.corners;
+    for (int row = 0; row < options.board.inner_rows; ++row)
+      for (int col = 0; col < options.board.inner_cols; ++col)
+        input.board_points.emplace_back(col * options.board.square_size,
+                                        row * options.board.square_size, 0.0);
+    input.planes = &outcome.planes;
+    const JointRefinementResult refined = refineJointly(input);
+    const double plane_rms_before = outcome.planes.rms_m;
+    outcome.camera.camera = refined.camera;
+    outcome.camera.board_to_camera = refined.board_to_camera;
+    outcome.camera.rms_px = refined.corner_rms_px_after;
+    for (size_t pose = 0; pose < observations.size(); ++pose)
+      observations[pose].board_to_camera = refined.board_to_camera[pose];
+    // With camera and poses at the optimum, the least-squares planes are the refined planes.
+    outcome.planes = calibrateStripePlanes(refined.camera, observations, projector_options);
+    std::ostringstream line;
+    line << refined.summary << "; corner rms " << refined.corner_rms_px_before << " -> "
+         << refined.corner_rms_px_after << " px, plane-fit rms " << plane_rms_before * 1e3 << " -> "
+         << outcome.planes.rms_m * 1e3 << " mm";
+    outcome.refinement_summary = line.str();
+    report(outcome.refinement_summary);
+  }
+
+  std::vector<double> coordinates;
+  for (int stripe : outcome.planes.point_stripes) coordinates.push_back(stripe + 0.5);
+  outcome.pinhole = estimatePinholeProjector(outcome.planes.points, coordinates);
+  report("baseline pinhole projector: rms " + std::to_string(outcome.pinhole.rms_stripes) +
+         " stripes");
+
+  outcome.calibration.pair_id = options.pair_id;
+  outcome.calibration.source =
+      "body_scan_calib calibrate_pair: " + std::to_string(pose_frames.size()) +
+      " reference-plane poses, plane per stripe (thesis eqs 3.27-3.30)";
+  outcome.calibration.camera = outcome.camera.camera;
+  outcome.calibration.projector = outcome.planes.projector;
+  outcome.pinhole_calibration = outcome.calibration;
+  outcome.pinhole_calibration.source = "baseline: pinhole projector (2x4 projection matrix)";
+  outcome.pinhole_calibration.projector =
+      outcome.pinhole.projector.toStripePlanes(layout.stripeCount());
+  return outcome;
+}
+
+double AccuracyEvaluation::meanPlaneEs() const {
+  double sum = 0;
+  for (const SphereAccuracy& s : spheres) sum += s.plane_model.e_s_m2;
+  return spheres.empty() ? kNaN : sum / spheres.size();
+}
+
+double AccuracyEvaluation::meanPinholeEs() const {
+  double sum = 0;
+  for (const SphereAccuracy& s : spheres) sum += s.pinhole_model.e_s_m2;
+  return spheres.empty() ? kNaN : sum / spheres.size();
+}
+
+double AccuracyEvaluation::improvementPercent() const {
+  return 100.0 * (meanPinholeEs() - meanPlaneEs()) / meanPinholeEs();
+}
+
+AccuracyEvaluation evaluateSphereAccuracy(const PairCalibration& plane_model,
+                                          const PairCalibration& pinhole_model,
+                                          const std::vector<cv::Mat>& frames,
+                                          const PatternLayout& layout,
+                                          const std::vector<Eigen::Vector3d>& nominal_centers,
+                                          const std::vector<Eigen::Vector3d>& true_centers,
+                                          double radius, int exposures) {
+  StripeImage stripes;
+  StripeDecoder(layout).decode(frames, stripes);
+  AccuracyEvaluation evaluation;
+  evaluation.exposures = exposures;
+  evaluation.radius_m = radius;
+  // Within 1.8 radii of the nominal centre: the whole sphere even if placed a few mm off,
+  // nothing of a neighbour.
+  const double capture_radius = 1.8 * radius;
+  const auto plane_spheres = segmentSpheres(triangulateCloud(plane_model, stripes.coordinate),
+                                            nominal_centers, capture_radius);
+  const auto pinhole_spheres = segmentSpheres(triangulateCloud(pinhole_model, stripes.coordinate),
+                                              nominal_centers, capture_radius);
+  for (size_t k = 0; k < nominal_centers.size(); ++k) {
+    if (plane_spheres[k].size() < 4 || pinhole_spheres[k].size() < 4)
+      throw PairCalibrationError("sphere " + std::to_string(k + 1) +
+                                 ": too few reconstructed points near its nominal centre; is it "
+                                 "in view, lit, and are its stripes calibrated?");
+    SphereAccuracy row;
+    row.number = static_cast<int>(k + 1);
+    row.plane_model = fitIdealSphere(plane_spheres[k], radius);
+    row.pinhole_model = fitIdealSphere(pinhole_spheres[k], radius);
+    if (k < true_centers.size()) {
+      row.plane_center_error_m = (row.plane_model.center - true_centers[k]).norm();
+      row.pinhole_center_error_m = (row.pinhole_model.center - true_centers[k]).norm();
+    }
+    evaluation.spheres.push_back(row);
+  }
+  return evaluation;
+}
+
+namespace {
+
+double rounded(double value, double unit) { return std::round(value / unit) * unit; }
+
+void emitEvaluation(YAML::Emitter& out, const AccuracyEvaluation& evaluation) {
+  out << YAML::BeginMap;
+  out << YAML::Key << "exposures_averaged_per_pattern" << YAML::Value << evaluation.exposures;
+  out << YAML::Key << "radius_mm" << YAML::Value << evaluation.radius_m * 1e3;
+  auto row = [&](const std::string& key, auto value_of) {
+    out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (const SphereAccuracy& sphere : evaluation.spheres) out << value_of(sphere);
+    out << YAML::EndSeq;
+  };
+  row("sphere_number", [](const SphereAccuracy& s) { return s.number; });
+  row("measuring_points_plane_model", [](const SphereAccuracy& s) { return s.plane_model.points; });
+  row("measuring_points_pinhole_model",
+      [](const SphereAccuracy& s) { return s.pinhole_model.points; });
+  row("e_s_mm2_approach_i_pinhole_projector",
+      [](const SphereAccuracy& s) { return rounded(s.pinhole_model.e_s_m2 * 1e6, 1e-5); });
+  row("e_s_mm2_approach_iii_plane_per_stripe",
+      [](const SphereAccuracy& s) { return rounded(s.plane_model.e_s_m2 * 1e6, 1e-5); });
+  row("improvement_percent", [](const SphereAccuracy& s) {
+    return rounded(100 * (s.pinhole_model.e_s_m2 - s.plane_model.e_s_m2) / s.pinhole_model.e_s_m2,
+                   0.1);
+  });
+  row("center_error_mm_pinhole_projector",
+      [](const SphereAccuracy& s) { return rounded(s.pinhole_center_error_m * 1e3, 1e-3); });
+  row("center_error_mm_plane_per_stripe",
+      [](const SphereAccuracy& s) { return rounded(s.plane_center_error_m * 1e3, 1e-3); });
+  out << YAML::Key << "mean_e_s_mm2_pinhole_projector" << YAML::Value
+      << rounded(evaluation.meanPinholeEs() * 1e6, 1e-5);
+  out << YAML::Key << "mean_e_s_mm2_plane_per_stripe" << YAML::Value
+      << rounded(evaluation.meanPlaneEs() * 1e6, 1e-5);
+  out << YAML::Key << "mean_improvement_percent" << YAML::Value
+      << rounded(evaluation.improvementPercent(), 0.1);
+  out << YAML::EndMap;
+}
+
+}  // namespace
+
+std::string accuracyReportYaml(const PairCalibrationOutcome& outcome,
+                               const std::vector<AccuracyEvaluation>& evaluations,
+                               const std::vector<std::string>& notes) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(6);
+  out << YAML::BeginMap;
+  out << YAML::Key << "pair_id" << YAML::Value << outcome.calibration.pair_id;
+  out << YAML::Key << "notes" << YAML::Value << YAML::BeginSeq;
+  for (const std::string& note : notes) out << note;
+  out << YAML::EndSeq;
+  const PinholeCamera& camera = outcome.calibration.camera;
+  out << YAML::Key << "camera" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "reference_plane_poses" << YAML::Value
+      << outcome.camera.board_to_camera.size();
+  out << YAML::Key << "reprojection_rms_px" << YAML::Value << rounded(outcome.camera.rms_px, 1e-4);
+  out << YAML::Key << "alpha_beta_gamma_u0_v0" << YAML::Value << YAML::Flow << YAML::BeginSeq
+      << rounded(camera.alpha, 1e-3) << rounded(camera.beta, 1e-3) << rounded(camera.gamma, 1e-4)
+      << rounded(camera.u0, 1e-3) << rounded(camera.v0, 1e-3) << YAML::EndSeq;
+  out << YAML::Key << "k1_k2" << YAML::Value << YAML::Flow << YAML::BeginSeq
+      << rounded(camera.k1, 1e-6) << rounded(camera.k2, 1e-6) << YAML::EndSeq;
+  out << YAML::EndMap;
+  out << YAML::Key << "projector" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "stripes" << YAML::Value << outcome.planes.projector.stripeCount();
+  out << YAML::Key << "planes_fitted" << YAML::Value
+      << outcome.planes.projector.stripeCount() - outcome.planes.missing_stripes.size();
+  out << YAML::Key << "stripes_seen_on_fewer_than_3_poses_stored_as_nan" << YAML::Value
+      << YAML::Flow << outcome.planes.missing_stripes;
+  out << YAML::Key << "plane_fit_rms_mm" << YAML::Value
+      << rounded(outcome.planes.rms_m * 1e3, 1e-5);
+  out << YAML::Key << "points" << YAML::Value << outcome.planes.points.size();
+  out << YAML::Key << "pinhole_baseline_rms_stripes" << YAML::Value
+      << rounded(outcome.pinhole.rms_stripes, 1e-5);
+  if (!outcome.refinement_summary.empty())
+    out << YAML::Key << "joint_refinement" << YAML::Value << outcome.refinement_summary;
+  out << YAML::EndMap;
+  out << YAML::Key << "sphere_accuracy_eq_3_31" << YAML::Value << YAML::BeginSeq;
+  for (const AccuracyEvaluation& evaluation : evaluations) emitEvaluation(out, evaluation);
+  out << YAML::EndSeq;
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace body_scan::calib
