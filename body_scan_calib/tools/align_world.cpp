@@ -178,7 +178,23 @@ std::vector<Capture> captureOffline(const Options& options) {
   return captures;
 }
 
-double mm(double metres) { return std::round(metres * 1e6) / 1e3; }  // 3 decimals
+// yaml-cpp stores scalars as text when assigned: format numbers here, not in the emitter.
+std::string number(double value, int significant = 7) {
+  std::ostringstream text;
+  text << std::setprecision(significant) << value;
+  return text.str();
+}
+std::string mm(double metres) {  // millimetres, 3 decimals (micrometres)
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(3) << metres * 1000;
+  return text.str();
+}
+YAML::Node numbers(std::initializer_list<double> values) {
+  YAML::Node node;
+  for (double value : values) node.push_back(number(value));
+  node.SetStyle(YAML::EmitterStyle::Flow);
+  return node;
+}
 
 int run(const Options& options) {
   const std::vector<Capture> captures =
@@ -188,9 +204,9 @@ int run(const Options& options) {
   YAML::Node report;
   report["thesis"] = "sec. 4.3.2, eqs 4.1-4.2, Table 4.2";
   report["mode"] = options.images.empty() ? "live (simulator)" : "offline (" + options.images + ")";
-  report["target"]["radius_m"] = layout.radius;
-  report["target"]["height_m"] = layout.height;
-  report["target"]["grid_pitch_m"] = layout.grid_pitch;
+  report["target"]["radius_m"] = number(layout.radius);
+  report["target"]["height_m"] = number(layout.height);
+  report["target"]["grid_pitch_m"] = number(layout.grid_pitch);
   int failures = 0;
   for (const Capture& capture : captures) {
     YAML::Node entry;
@@ -218,17 +234,18 @@ int run(const Options& options) {
       entry["fit_max_mm"] = mm(fit.max_m);
       const Eigen::Vector3d t = fit.alignment.world_from_camera.translation();
       const Eigen::Quaterniond q(fit.alignment.world_from_camera.linear());
-      entry["world_from_camera"]["translation_m"] = std::vector<double>{t.x(), t.y(), t.z()};
-      entry["world_from_camera"]["quaternion_xyzw"] =
-          std::vector<double>{q.x(), q.y(), q.z(), q.w()};
+      entry["world_from_camera"]["translation_m"] = numbers({t.x(), t.y(), t.z()});
+      entry["world_from_camera"]["quaternion_xyzw"] = numbers({q.x(), q.y(), q.z(), q.w()});
+      // Frobenius norm of L - I: how far the affine is from a rigid transform.
       entry["residual_linear_deviation"] =
-          (fit.alignment.residual_linear - Eigen::Matrix3d::Identity()).norm();
+          number((fit.alignment.residual_linear - Eigen::Matrix3d::Identity()).norm(), 3);
       if (capture.true_cylinder_from_camera) {
         const Eigen::Isometry3d& truth = *capture.true_cylinder_from_camera;
-        entry["simulator_check"]["rotation_error_deg"] =
+        entry["simulator_check"]["rotation_error_deg"] = number(
             Eigen::AngleAxisd(truth.linear().transpose() * fit.alignment.world_from_camera.linear())
-                .angle() *
-            180 / M_PI;
+                    .angle() *
+                180 / M_PI,
+            3);
         entry["simulator_check"]["translation_error_mm"] = mm((truth.translation() - t).norm());
       }
       PairCalibration calibration = capture.calibration;
@@ -262,7 +279,6 @@ int run(const Options& options) {
   }
   report["E_h"] = e_h;
   YAML::Emitter out;
-  out.SetDoublePrecision(7);
   out << report;
   writeFileAtomically(options.report,
                       "# World alignment report (align_world); E_h = eq 4.2 over grid points "
