@@ -134,15 +134,14 @@ TEST(CylinderTarget, DetectsGridPointsAtTheirTrueProjections) {
     const Eigen::Vector2d truth =
         view.config.camera.project(camera_from_world * cylinderGridPoint(layout, detection.id));
     const double error = (detection.pixel - truth).norm();
-    std::printf("id %d col %d row %d px %.1f %.1f err %.3f\n", detection.id,
-                detection.id % layout.columns(), detection.id / layout.columns(), truth.x(),
-                truth.y(), error);
     sum += error;
     worst = std::max(worst, error);
   }
   const size_t count = view.observation.detections.size();
-  std::printf("detections %zu of %d predicted (%d markers), mean %.3f px, max %.3f px\n", count,
-              view.observation.stats.predicted, view.observation.stats.markers, sum / count, worst);
+  std::printf(
+      "[ figure ] cylinder detections %zu of %d predicted (%d markers), mean %.3f px, max %.3f "
+      "px\n",
+      count, view.observation.stats.predicted, view.observation.stats.markers, sum / count, worst);
   ASSERT_GE(count, 60u);
   EXPECT_LT(sum / count, 0.15);
   EXPECT_LT(worst, 0.5);
@@ -152,8 +151,8 @@ TEST(CylinderTarget, DetectsGridPointsAtTheirTrueProjections) {
     depth_error +=
         (point.camera_point - camera_from_world * cylinderGridPoint(layout, point.id)).norm();
   ASSERT_GE(view.observation.points.size(), 0.9 * count);
-  std::printf("triangulated %zu, mean 3D error %.3f mm\n", view.observation.points.size(),
-              1000 * depth_error / view.observation.points.size());
+  std::printf("[ figure ] cylinder grid points triangulated %zu, mean 3D error %.3f mm\n",
+              view.observation.points.size(), 1000 * depth_error / view.observation.points.size());
   EXPECT_LT(1000 * depth_error / view.observation.points.size(), 0.4);
 }
 
@@ -179,7 +178,8 @@ TEST(WorldAlignment, TwoPolesAgreeOnSharedPointsAsInTable42) {
     const double offset_mm =
         1000 * (fit.alignment.world_from_camera.translation() - truth.translation()).norm();
     std::printf(
-        "%s: %d points, rms %.3f mm, rotation error %.3f deg, translation error %.2f mm, "
+        "[ figure ] alignment %s: %d points, rms %.3f mm, rotation error %.3f deg, translation "
+        "error %.2f mm, "
         "|L - I| %.4f\n",
         name, fit.points, 1000 * fit.rms_m, angle_deg, offset_mm,
         (fit.alignment.residual_linear - Eigen::Matrix3d::Identity()).norm());
@@ -190,9 +190,11 @@ TEST(WorldAlignment, TwoPolesAgreeOnSharedPointsAsInTable42) {
     aligned.push_back(pair);
   }
   const SharedPointAccuracy accuracy = evaluateSharedPoints(aligned);
-  std::printf("E_h: %d shared points, %d comparisons, mean %.3f mm, std %.3f mm, max %.3f mm\n",
-              accuracy.shared_points, accuracy.comparisons, 1000 * accuracy.mean_m,
-              1000 * accuracy.std_m, 1000 * accuracy.max_m);
+  std::printf(
+      "[ figure ] E_h (eq 4.2): %d shared points, %d comparisons, mean %.3f mm, std %.3f mm, max "
+      "%.3f mm\n",
+      accuracy.shared_points, accuracy.comparisons, 1000 * accuracy.mean_m, 1000 * accuracy.std_m,
+      1000 * accuracy.max_m);
   EXPECT_GE(accuracy.shared_points, 33);
   EXPECT_LE(1000 * accuracy.mean_m, 1.0);
   EXPECT_GT(accuracy.std_m, 0.0);

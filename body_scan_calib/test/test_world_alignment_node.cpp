@@ -173,7 +173,8 @@ TEST_F(WorldAlignmentNode, AlignedCloudLandsOnTheTrueSurface) {
   }
   ASSERT_GT(valid, 20000);
   std::printf(
-      "sphere: %ld points, mean distance to the true surface %.3f mm aligned, %.3f mm "
+      "[ figure ] aligned sphere cloud: %ld points, mean distance to the true surface %.3f mm "
+      "aligned, %.3f mm "
       "with the rigid part alone\n",
       valid, 1000 * aligned_error / valid, 1000 * rigid_only_error / valid);
   EXPECT_LT(1000 * aligned_error / valid, 1.0);
