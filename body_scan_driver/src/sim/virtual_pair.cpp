@@ -145,17 +145,29 @@ RenderedPatternSet VirtualPair::render(uint32_t scan_id) const {
   std::vector<SurfaceSample> samples(static_cast<size_t>(rows) * cols);
 
   // Printed patterns: mean albedo and colour of the surface over 4x4 samples of the pixel area.
+  // Sample rays come from the pixel's ray and its central differences to the neighbouring
+  // pixels' rays (distortion is smooth over a pixel; no per-sample undistortion).
+  auto ray_at = [&](int u, int v) -> Eigen::Vector3d {
+    u = std::clamp(u, 0, cols - 1);
+    v = std::clamp(v, 0, rows - 1);
+    return camera_rays_[static_cast<size_t>(v) * cols + u].cast<double>();
+  };
   auto averageOverPixel = [&](const Surface& surface, int u, int v, double& albedo,
                               Eigen::Vector3d& color) {
     constexpr int kSamples = 4;
+    const Eigen::Vector3d centre = ray_at(u, v);
+    const Eigen::Vector3d along_u = (ray_at(u + 1, v) - ray_at(u - 1, v)) /
+                                    std::max(1, std::min(u + 1, cols - 1) - std::max(u - 1, 0));
+    const Eigen::Vector3d along_v = (ray_at(u, v + 1) - ray_at(u, v - 1)) /
+                                    std::max(1, std::min(v + 1, rows - 1) - std::max(v - 1, 0));
     double albedo_sum = 0;
     Eigen::Vector3d color_sum = Eigen::Vector3d::Zero();
     int hits = 0;
     for (int i = 0; i < kSamples; ++i)
       for (int j = 0; j < kSamples; ++j) {
-        const Eigen::Vector2d p = camera.normalizedPoint(
-            {u - 0.5 + (j + 0.5) / kSamples, v - 0.5 + (i + 0.5) / kSamples});
-        const Eigen::Vector3d direction = rotation * Eigen::Vector3d(p.x(), p.y(), 1).normalized();
+        const double du = (j + 0.5) / kSamples - 0.5, dv = (i + 0.5) / kSamples - 0.5;
+        const Eigen::Vector3d direction =
+            rotation * (centre + du * along_u + dv * along_v).normalized();
         Hit sample;
         if (!surface.intersect(Ray{pose.translation(), direction}, 1e-6,
                                std::numeric_limits<double>::infinity(), sample))
