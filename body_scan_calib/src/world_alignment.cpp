@@ -1,17 +1,17 @@
 #include <body_scan_calib/world_alignment.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <set>
 
 namespace body_scan::calib {
+namespace {
 
-AffineFit fitWorldAffine(const std::vector<Eigen::Vector3d>& camera_points,
-                         const std::vector<Eigen::Vector3d>& world_points) {
+// Plain least squares of eq 4.1 over all the given points.
+AffineFit fitLeastSquares(const std::vector<Eigen::Vector3d>& camera_points,
+                          const std::vector<Eigen::Vector3d>& world_points) {
   const size_t n = camera_points.size();
-  if (n != world_points.size())
-    throw WorldAlignmentError("world alignment: " + std::to_string(n) + " camera points but " +
-                              std::to_string(world_points.size()) + " world points");
   if (n < 4)
     throw WorldAlignmentError("world alignment: " + std::to_string(n) +
                               " calibration points; eq 4.1 needs at least 4 (move the pair or "
@@ -57,6 +57,49 @@ AffineFit fitWorldAffine(const std::vector<Eigen::Vector3d>& camera_points,
   }
   fit.rms_m = std::sqrt(sum / n);
   return fit;
+}
+
+}  // namespace
+
+AffineFit fitWorldAffine(const std::vector<Eigen::Vector3d>& camera_points,
+                         const std::vector<Eigen::Vector3d>& world_points,
+                         double outlier_distance_m) {
+  if (camera_points.size() != world_points.size())
+    throw WorldAlignmentError("world alignment: " + std::to_string(camera_points.size()) +
+                              " camera points but " + std::to_string(world_points.size()) +
+                              " world points");
+  std::vector<int> inliers(camera_points.size());
+  for (size_t i = 0; i < inliers.size(); ++i) inliers[i] = static_cast<int>(i);
+  std::vector<int> outliers;
+  while (true) {
+    std::vector<Eigen::Vector3d> camera, world;
+    for (int i : inliers) {
+      camera.push_back(camera_points[i]);
+      world.push_back(world_points[i]);
+    }
+    AffineFit fit = fitLeastSquares(camera, world);
+    // Drop the worst point while it is farther than outlier_distance_m (a misread marker or a
+    // corner on a depth edge), one at a time: one gross error drags every residual with it.
+    size_t worst = 0;
+    double worst_residual = -1;
+    for (size_t k = 0; k < camera.size(); ++k) {
+      const double residual =
+          (fit.affine.leftCols<3>() * camera[k] + fit.affine.col(3) - world[k]).norm();
+      if (residual > worst_residual) worst_residual = residual, worst = k;
+    }
+    if (worst_residual <= outlier_distance_m) {
+      std::sort(outliers.begin(), outliers.end());
+      fit.outliers = outliers;
+      return fit;
+    }
+    outliers.push_back(inliers[worst]);
+    inliers.erase(inliers.begin() + worst);
+    if (outliers.size() * 4 > camera_points.size())
+      throw WorldAlignmentError(
+          "world alignment: more than a quarter of the " + std::to_string(camera_points.size()) +
+          " calibration points are farther than " + std::to_string(outlier_distance_m * 1000) +
+          " mm from the fitted affine; check the pair calibration and the cylinder's layout");
+  }
 }
 
 SharedPointAccuracy evaluateSharedPoints(const std::vector<AlignedPair>& pairs) {

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 #include <random>
+#include <set>
 
 using namespace body_scan;
 using namespace body_scan::calib;
@@ -78,6 +79,33 @@ TEST(WorldAlignmentModel, CalibrationFileKeepsTheAlignment) {
   std::remove(path.c_str());
 }
 
+TEST(CylinderLayout, MarkersAndGridPointsAreConsistent) {
+  const CalibrationCylinderLayout layout;
+  EXPECT_EQ(layout.columns(), 26);        // 2 pi 207.5 mm / 50 mm, even
+  EXPECT_EQ(layout.rows(), 36);           // 1800 mm / 50 mm
+  EXPECT_LE(layout.markerCount(), 1000);  // DICT_4X4_1000
+  std::set<int> ids;
+  for (int row = 0; row < layout.rows(); ++row)
+    for (int col = 0; col < layout.columns(); ++col) {
+      const int id = layout.markerId(col, row);
+      if (id < 0) continue;
+      EXPECT_TRUE(ids.insert(id).second) << "marker id " << id << " used twice";
+      int found_col, found_row;
+      layout.markerSquare(id, found_col, found_row);
+      EXPECT_EQ(found_col, col);
+      EXPECT_EQ(found_row, row);
+    }
+  EXPECT_EQ(static_cast<int>(ids.size()), layout.markerCount());
+  // Neighbouring grid points are 50 mm apart along the axis and ~50 mm along the arc.
+  const int id = layout.gridPointId(5, 10);
+  EXPECT_NEAR(
+      (cylinderGridPoint(layout, id) - cylinderGridPoint(layout, id + layout.columns())).norm(),
+      0.05, 1e-12);
+  EXPECT_NEAR((cylinderGridPoint(layout, id) - cylinderGridPoint(layout, id + 1)).norm(), 0.05,
+              0.001);
+  EXPECT_NEAR(cylinderGridPoint(layout, id).head<2>().norm(), 0.2075, 1e-12);
+}
+
 TEST(WorldAlignmentFit, RecoversAnAffineAndRejectsBadPointSets) {
   std::mt19937 random(7);
   std::uniform_real_distribution<double> uniform(-0.3, 0.3);
@@ -93,6 +121,15 @@ TEST(WorldAlignmentFit, RecoversAnAffineAndRejectsBadPointSets) {
   EXPECT_LT((fit.affine - truth).norm(), 1e-9);
   EXPECT_LT(fit.rms_m, 1e-9);
   EXPECT_EQ(fit.points, 30);
+  EXPECT_TRUE(fit.outliers.empty());
+
+  // A misread grid point 40 mm off is left out and the rest give the exact affine.
+  std::vector<Eigen::Vector3d> with_outlier = world;
+  with_outlier[7].x() += 0.04;
+  const AffineFit robust = fitWorldAffine(camera, with_outlier);
+  EXPECT_EQ(robust.outliers, std::vector<int>{7});
+  EXPECT_EQ(robust.points, 29);
+  EXPECT_LT((robust.affine - truth).norm(), 1e-9);
 
   EXPECT_THROW(
       fitWorldAffine({camera.begin(), camera.begin() + 3}, {world.begin(), world.begin() + 3}),

@@ -221,14 +221,22 @@ int run(const Options& options) {
       entry["grid_points_detected"] = static_cast<int>(observation.detections.size());
       entry["grid_points_triangulated"] = static_cast<int>(observation.points.size());
       std::vector<Eigen::Vector3d> camera, world;
-      AlignedPair pair{capture.pair_id, {}, {}};
       for (const TriangulatedGridPoint& point : observation.points) {
         camera.push_back(point.camera_point);
         world.push_back(cylinderGridPoint(layout, point.id));
-        pair.camera_points[point.id] = point.camera_point;
       }
       const AffineFit fit = fitWorldAffine(camera, world);
-      pair.alignment = fit.alignment;
+      // E_h compares the points the fit trusted; outliers are reported, not compared.
+      AlignedPair pair{capture.pair_id, {}, fit.alignment};
+      for (size_t i = 0, next_outlier = 0; i < observation.points.size(); ++i) {
+        if (next_outlier < fit.outliers.size() &&
+            fit.outliers[next_outlier] == static_cast<int>(i)) {
+          ++next_outlier;
+          continue;
+        }
+        pair.camera_points[observation.points[i].id] = observation.points[i].camera_point;
+      }
+      entry["grid_points_outliers"] = static_cast<int>(fit.outliers.size());
       aligned.push_back(pair);
       entry["fit_rms_mm"] = mm(fit.rms_m);
       entry["fit_max_mm"] = mm(fit.max_m);

@@ -20,14 +20,18 @@ struct WorldAlignmentError : std::runtime_error {
 struct AffineFit {
   Eigen::Matrix<double, 3, 4> affine;  // H_a's top three rows
   WorldAlignment alignment;            // its polar split
-  int points = 0;
-  double rms_m = 0, max_m = 0;  // residuals |H_a M_c - M_w|
+  int points = 0;                      // used in the fit
+  double rms_m = 0, max_m = 0;         // residuals |H_a M_c - M_w| of those points
+  std::vector<int> outliers;           // indices of the input points left out, ascending
 };
 
 // Least-squares H_a from >= 4 correspondences camera point -> world point that do not lie on
-// one plane. Throws WorldAlignmentError naming the problem and the fix.
+// one plane. Points farther than outlier_distance_m from the fit are left out one at a time
+// (worst first) and the rest refitted. Throws WorldAlignmentError naming the problem and the
+// fix (too few points, coplanar points, more than a quarter outliers).
 AffineFit fitWorldAffine(const std::vector<Eigen::Vector3d>& camera_points,
-                         const std::vector<Eigen::Vector3d>& world_points);
+                         const std::vector<Eigen::Vector3d>& world_points,
+                         double outlier_distance_m = 0.005);
 
 // One pair's aligned observations: grid point id -> camera-frame point.
 struct AlignedPair {
