@@ -40,6 +40,7 @@ TEST(AlignWorldCli, LiveThenOfflineFromTheSavedImages) {
   EXPECT_EQ(live["pairs"].size(), 4u);
   EXPECT_GE(live["E_h"]["shared_points"].as<int>(), 33);
   EXPECT_LE(live["E_h"]["mean_mm"].as<double>(), 1.0);
+  EXPECT_GT(fs::file_size(live_out + "/report.png"), 10000u) << "the plot next to the report";
   for (const char* stem : {"pole_a_pair_1", "pole_a_pair_2", "pole_b_pair_1", "pole_b_pair_2"}) {
     const body_scan::PairCalibration calibration =
         body_scan::loadCalibration(live_out + "/" + stem + ".yaml");

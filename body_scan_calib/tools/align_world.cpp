@@ -44,10 +44,12 @@ Both:
                          factory calibration for a pair without a file; offline: required)
   --calibration-out DIR  aligned calibrations (default ~/.ros/body_scan/calibration)
   --report FILE          YAML report (default world_alignment_report.yaml)
+  --plot FILE            PNG: top view of the aligned points, E_h per shared point against
+                         height (default: the report's path with .png)
 )";
 
 struct Options {
-  std::string scene, images, save_images, calibration_in, calibration_out, report;
+  std::string scene, images, save_images, calibration_in, calibration_out, report, plot;
   std::vector<std::string> pairs;
 };
 
@@ -196,6 +198,95 @@ YAML::Node numbers(std::initializer_list<double> values) {
   return node;
 }
 
+// Where the pairs saw the cylinder and how well they agree (cf. Figs 4.10-4.11): left, every
+// pair's aligned grid points on the unrolled cylinder (angle about the axis, height), each pair
+// offset by a few pixels so that shared points show all their colours; right, E_h of each
+// shared point (eq 4.2) against its height.
+void writePlot(const std::string& path, const std::vector<AlignedPair>& pairs,
+               const CalibrationCylinderLayout& layout, const SharedPointAccuracy& accuracy) {
+  const int size = 500;
+  cv::Mat3b image(size, 2 * size, cv::Vec3b(255, 255, 255));
+  const cv::Scalar colours[] = {{200, 80, 0},  {0, 140, 0},   {0, 0, 220},
+                                {160, 0, 160}, {0, 160, 200}, {90, 90, 90}};
+  double z_low = 1e9, z_high = -1e9, angle_low = 1e9, angle_high = -1e9;
+  for (const AlignedPair& pair : pairs)
+    for (const auto& [id, camera_point] : pair.camera_points) {
+      const Eigen::Vector3d world = pair.alignment.toWorld(camera_point);
+      const double angle = std::atan2(world.y(), world.x()) * 180 / M_PI;
+      z_low = std::min(z_low, world.z()), z_high = std::max(z_high, world.z());
+      angle_low = std::min(angle_low, angle), angle_high = std::max(angle_high, angle);
+    }
+  if (z_low > z_high) z_low = 0, z_high = layout.height, angle_low = -180, angle_high = 180;
+  z_low -= 0.05, z_high += 0.05, angle_low -= 10, angle_high += 10;
+  const cv::Rect unrolled(40, 40, size - 70, size - 110);
+  cv::rectangle(image, unrolled, cv::Scalar(0, 0, 0));
+  auto height_y = [&](const cv::Rect& box, double z) {
+    return box.y + static_cast<int>(std::lround((z_high - z) / (z_high - z_low) * box.height));
+  };
+  for (size_t p = 0; p < pairs.size(); ++p) {
+    const cv::Scalar colour = colours[p % 6];
+    const cv::Point offset(p % 2 ? 3 : -3, (p / 2) % 2 ? 3 : -3);
+    for (const auto& [id, camera_point] : pairs[p].camera_points) {
+      const Eigen::Vector3d world = pairs[p].alignment.toWorld(camera_point);
+      // Angle grows to the left: the cylinder as seen from its front (+x).
+      const double angle = std::atan2(world.y(), world.x()) * 180 / M_PI;
+      const int x =
+          unrolled.x + static_cast<int>(std::lround((angle_high - angle) /
+                                                    (angle_high - angle_low) * unrolled.width));
+      cv::circle(image, cv::Point(x, height_y(unrolled, world.z())) + offset, 2, colour, -1,
+                 cv::LINE_AA);
+    }
+    cv::putText(image, pairs[p].pair_id,
+                {40 + 115 * static_cast<int>(p % 4), size - 14 + 18 * static_cast<int>(p / 4)},
+                cv::FONT_HERSHEY_SIMPLEX, 0.45, colour, 1, cv::LINE_AA);
+  }
+  std::ostringstream unrolled_title, unrolled_axis;
+  unrolled_title << "aligned grid points, unrolled cylinder (world frame)";
+  unrolled_axis << "angle about z " << number(angle_high, 3) << " .. " << number(angle_low, 3)
+                << " deg (front = 0)";
+  cv::putText(image, unrolled_title.str(), {10, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.45,
+              cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  cv::putText(image, unrolled_axis.str(), {40, unrolled.y + unrolled.height + 20},
+              cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  // Right panel: E_h per comparison (mm) horizontally, height z vertically.
+  const cv::Rect panel(size + 60, 40, size - 90, size - 110);
+  cv::rectangle(image, panel, cv::Scalar(0, 0, 0));
+  const double max_mm = std::max(1.0, std::ceil(accuracy.max_m * 1000));
+  std::vector<std::pair<double, double>> samples;  // (E_h mm, z)
+  for (size_t a = 0; a < pairs.size(); ++a)
+    for (size_t b = a + 1; b < pairs.size(); ++b)
+      for (const auto& [id, point_a] : pairs[a].camera_points) {
+        const auto found = pairs[b].camera_points.find(id);
+        if (found == pairs[b].camera_points.end()) continue;
+        const Eigen::Vector3d world_a = pairs[a].alignment.toWorld(point_a);
+        samples.emplace_back(1000 * (world_a - pairs[b].alignment.toWorld(found->second)).norm(),
+                             world_a.z());
+      }
+  for (const auto& [error_mm, z] : samples)
+    cv::circle(
+        image,
+        {panel.x + static_cast<int>(std::lround(error_mm / max_mm * panel.width)),
+         panel.y + static_cast<int>(std::lround((z_high - z) / (z_high - z_low) * panel.height))},
+        3, cv::Scalar(200, 80, 0), -1, cv::LINE_AA);
+  const int mean_x =
+      panel.x + static_cast<int>(std::lround(1000 * accuracy.mean_m / max_mm * panel.width));
+  cv::line(image, {mean_x, panel.y}, {mean_x, panel.y + panel.height}, cv::Scalar(0, 0, 220), 1);
+  std::ostringstream title, axis, heights;
+  title << "E_h (eq 4.2): " << accuracy.shared_points << " points, mean " << mm(accuracy.mean_m)
+        << " mm, std " << mm(accuracy.std_m) << " mm";
+  axis << "0 .. " << max_mm << " mm (red: mean)";
+  heights << "height z " << number(z_low, 3) << " .. " << number(z_high, 3) << " m (both panels)";
+  cv::putText(image, title.str(), {size + 20, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.45,
+              cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  cv::putText(image, axis.str(), {panel.x, panel.y + panel.height + 20}, cv::FONT_HERSHEY_SIMPLEX,
+              0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  cv::putText(image, heights.str(), {panel.x, panel.y + panel.height + 40},
+              cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  std::vector<uchar> png;
+  cv::imencode(".png", image, png);
+  writeFileAtomically(path, std::string(png.begin(), png.end()));
+}
+
 int run(const Options& options) {
   const std::vector<Capture> captures =
       options.images.empty() ? captureLive(options) : captureOffline(options);
@@ -292,10 +383,14 @@ int run(const Options& options) {
                       "# World alignment report (align_world); E_h = eq 4.2 over grid points "
                       "seen by two pairs.\n" +
                           std::string(out.c_str()) + "\n");
+  const std::string plot = options.plot.empty()
+                               ? fs::path(options.report).replace_extension(".png").string()
+                               : options.plot;
+  writePlot(plot, aligned, layout, accuracy);
   std::cout << "E_h (eq 4.2): " << accuracy.shared_points << " shared points, "
             << accuracy.comparisons << " comparisons, mean " << mm(accuracy.mean_m) << " mm, std "
             << mm(accuracy.std_m) << " mm, max " << mm(accuracy.max_m)
-            << " mm\nreport: " << options.report << "\n";
+            << " mm\nreport: " << options.report << "\nplot: " << plot << "\n";
   return failures == 0 ? 0 : 1;
 }
 
@@ -330,6 +425,8 @@ int main(int argc, char** argv) {
       options.calibration_out = value();
     else if (arg == "--report")
       options.report = value();
+    else if (arg == "--plot")
+      options.plot = value();
     else {
       std::cerr << (arg == "--help" || arg == "-h" ? "" : "unknown option " + arg + "\n") << kUsage;
       return arg == "--help" || arg == "-h" ? 0 : 2;
