@@ -128,12 +128,12 @@ std::vector<GridPointDetection> detectCylinderGridPoints(const cv::Mat& gray,
 std::optional<Eigen::Vector3d> triangulateAtPixel(const cv::Mat1f& stripe_coordinate,
                                                   const Eigen::Vector2d& pixel,
                                                   const PairCalibration& calibration, int radius) {
-  const int cu = static_cast<int>(std::lround(pixel.x())),
-            cv_ = static_cast<int>(std::lround(pixel.y()));
+  const int centre_u = static_cast<int>(std::lround(pixel.x())),
+            centre_v = static_cast<int>(std::lround(pixel.y()));
   std::vector<Eigen::Vector3d> rows;
   std::vector<double> values;
-  for (int v = cv_ - radius; v <= cv_ + radius; ++v)
-    for (int u = cu - radius; u <= cu + radius; ++u) {
+  for (int v = centre_v - radius; v <= centre_v + radius; ++v)
+    for (int u = centre_u - radius; u <= centre_u + radius; ++u) {
       if (u < 0 || v < 0 || u >= stripe_coordinate.cols || v >= stripe_coordinate.rows) continue;
       const float s = stripe_coordinate(v, u);
       if (!std::isfinite(s)) continue;
