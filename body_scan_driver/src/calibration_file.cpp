@@ -80,6 +80,16 @@ PairCalibration loadCalibration(const std::string& path) {
             "[.nan, .nan, .nan, .nan] for a stripe that was never observed");
       calibration.projector.planes.emplace_back(p[0], p[1], p[2], p[3]);
     }
+    if (const YAML::Node alignment = root["world_alignment"]) {
+      const std::vector<double> h = readMatrix(alignment, "affine", 12, path);
+      const Eigen::Matrix<double, 3, 4, Eigen::RowMajor> affine(h.data());
+      try {
+        calibration.alignment = WorldAlignment::fromAffine(affine);
+      } catch (const std::invalid_argument& e) {
+        throw CalibrationFileError("calibration file '" + path + "': " + e.what() +
+                                   "; run align_world again");
+      }
+    }
     const int declared = root["projector"]["stripe_count"].as<int>(-1);
     if (declared != calibration.projector.stripeCount())
       throw CalibrationFileError("calibration file '" + path + "': stripe_count " +
@@ -115,6 +125,14 @@ void saveCalibration(const std::string& path, const PairCalibration& calibration
     projector["planes"].push_back(plane);
   }
   root["projector"] = projector;
+  if (calibration.alignment) {
+    // Eq 4.1's H_a (rows of [A | t], metres); the rigid part and L follow from it on load.
+    const Eigen::Matrix<double, 3, 4, Eigen::RowMajor> affine = calibration.alignment->affine();
+    YAML::Node alignment;
+    alignment["frame"] = "world";
+    alignment["affine"] = matrixNode(3, 4, std::vector<double>(affine.data(), affine.data() + 12));
+    root["world_alignment"] = alignment;
+  }
 
   YAML::Emitter out;
   out.SetDoublePrecision(17);

@@ -1,8 +1,10 @@
 #include <body_scan_driver/pair_model.h>
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace body_scan {
 
@@ -41,6 +43,35 @@ StripePlaneProjector::Explicit StripePlaneProjector::explicitParameters(int stri
   const bool vertical = std::abs(p[1]) > std::abs(p[0]);
   const double lead = vertical ? p[1] : p[0], side = vertical ? p[0] : p[1];
   return {p[3] / lead, std::atan(-p[2] / lead), std::atan(-side / lead)};
+}
+
+WorldAlignment WorldAlignment::fromAffine(const Eigen::Matrix<double, 3, 4>& affine) {
+  const Eigen::Matrix3d linear = affine.leftCols<3>();
+  if (!linear.allFinite() || !affine.col(3).allFinite())
+    throw std::invalid_argument("world alignment: the affine transform has non-finite entries");
+  // Polar decomposition from the SVD A = U S V^T: R = U D V^T, L = V D S V^T, with D flipping
+  // the last axis if needed so that R is a proper rotation.
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(linear, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Vector3d singular_values = svd.singularValues();
+  if (!(singular_values.minCoeff() > 1e-9 * singular_values.maxCoeff()))
+    throw std::invalid_argument(
+        "world alignment: the affine transform is singular (the calibration points are "
+        "coplanar or too few); observe the cylinder over a larger area");
+  Eigen::Vector3d flip(1, 1, 1);
+  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0) flip[2] = -1;
+  WorldAlignment alignment;
+  alignment.world_from_camera.linear() =
+      svd.matrixU() * flip.asDiagonal() * svd.matrixV().transpose();
+  alignment.world_from_camera.translation() = affine.col(3);
+  alignment.residual_linear =
+      svd.matrixV() * flip.asDiagonal() * singular_values.asDiagonal() * svd.matrixV().transpose();
+  return alignment;
+}
+
+Eigen::Matrix<double, 3, 4> WorldAlignment::affine() const {
+  Eigen::Matrix<double, 3, 4> result;
+  result << world_from_camera.linear() * residual_linear, world_from_camera.translation();
+  return result;
 }
 
 Eigen::Vector3d intersectRayPlane(const Eigen::Vector2d& normalized, const Eigen::Vector4d& plane) {

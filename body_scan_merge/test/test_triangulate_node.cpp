@@ -109,6 +109,39 @@ TEST_F(TriangulateNode, RejectsBadInputAndKeepsRunning) {
   EXPECT_LT(1000 * error / valid, 1.0) << "mean |z - 1 m| in mm";
 }
 
+// World alignment (eq 4.1): a calibration whose planes scale every range by 2% carries an
+// alignment whose residual linear part L = I / 1.02 undoes it; Triangulate must apply L, so the
+// plane 1 m in front of the camera comes out at 1 m, not 1.02 m.
+TEST_F(TriangulateNode, AppliesTheResidualLinearPartOfTheWorldAlignment) {
+  constexpr double kScale = 1.02;
+  PairCalibration calibration = pair_->factoryCalibration();
+  for (Eigen::Vector4d& plane : calibration.projector.planes) plane[3] *= kScale;
+  Eigen::Matrix<double, 3, 4> affine;
+  affine << pair_->config().world_from_camera.linear() / kScale,
+      pair_->config().world_from_camera.translation();
+  calibration.alignment = WorldAlignment::fromAffine(affine);
+  saveCalibration(calibration_file_ + ".aligned.yaml", calibration);
+
+  ros::Publisher publisher = nh_.advertise<body_scan_msgs::PatternSet>("aligned/pattern_set", 1);
+  ros::Subscriber subscriber = nh_.subscribe<sensor_msgs::PointCloud2>(
+      "aligned/points", 1,
+      [this](const sensor_msgs::PointCloud2::ConstPtr& cloud) { onCloud(cloud); });
+  for (int i = 0; i < 50 && publisher.getNumSubscribers() == 0; ++i) ros::WallDuration(0.1).sleep();
+  ASSERT_GT(publisher.getNumSubscribers(), 0u) << "the aligned Triangulate did not subscribe";
+  publisher_ = publisher;
+  ASSERT_EQ(publishAndCount(*good_, 10.0), 1);
+  std::lock_guard<std::mutex> lock(mutex_);
+  long valid = 0;
+  double error = 0;
+  for (sensor_msgs::PointCloud2ConstIterator<float> it(*last_, "x"); it != it.end(); ++it)
+    if (std::isfinite(it[2])) {
+      ++valid;
+      error += std::abs(it[2] - 1.0);
+    }
+  ASSERT_GT(valid, 300000);
+  EXPECT_LT(1000 * error / valid, 1.0) << "mean |z - 1 m| in mm with L applied (20 mm without)";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,11 +44,31 @@ struct StripePlaneProjector {
   Explicit explicitParameters(int stripe) const;
 };
 
+// Camera frame -> world frame of one pair (thesis eq 4.1): M_w = A M_c + t, a 12-parameter
+// affine fitted to calibration-cylinder points. The polar decomposition A = R L splits it into a
+// rigid part (R, t), published as the tf2 transform world -> camera optical frame, and a
+// symmetric residual linear part L that Triangulate applies to camera-frame points first.
+struct WorldAlignment {
+  Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();  // (R, t)
+  Eigen::Matrix3d residual_linear = Eigen::Matrix3d::Identity();        // L
+
+  // Throws std::invalid_argument when A is singular or not finite.
+  static WorldAlignment fromAffine(const Eigen::Matrix<double, 3, 4>& affine);
+  Eigen::Matrix<double, 3, 4> affine() const;  // [R L | t]
+  Eigen::Vector3d applyResidualLinear(const Eigen::Vector3d& camera_point) const {
+    return residual_linear * camera_point;
+  }
+  Eigen::Vector3d toWorld(const Eigen::Vector3d& camera_point) const {
+    return world_from_camera * applyResidualLinear(camera_point);
+  }
+};
+
 struct PairCalibration {
   std::string pair_id;
   std::string source;  // "factory (simulator)" or how it was estimated
   PinholeCamera camera;
   StripePlaneProjector projector;
+  std::optional<WorldAlignment> alignment;  // set once the pair is aligned to the world
 };
 
 // Ray-plane intersection (eqs 3.9-3.12 written for a general plane): the point on the ray

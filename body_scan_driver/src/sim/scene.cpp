@@ -1,3 +1,4 @@
+#include <body_scan_driver/sim/calibration_cylinder.h>
 #include <body_scan_driver/sim/human_body.h>
 #include <body_scan_driver/sim/scene.h>
 #include <yaml-cpp/yaml.h>
@@ -275,12 +276,31 @@ void addObject(const YAML::Node& object, const std::string& where, Scene& scene)
         readVector(object, "base", where), readVector(object, "axis", where),
         readPositive(object, "radius", where), readPositive(object, "height", where),
         readMaterial(object));
+  } else if (type == "calibration_cylinder") {
+    CalibrationCylinderLayout layout;
+    layout.radius = readPositive(object, "radius", where, layout.radius);
+    layout.height = readPositive(object, "height", where, layout.height);
+    layout.grid_pitch = readPositive(object, "grid_pitch", where, layout.grid_pitch);
+    layout.marker_fraction = readPositive(object, "marker_fraction", where, layout.marker_fraction);
+    if (layout.marker_fraction >= 1)
+      throw std::runtime_error(where +
+                               ": 'marker_fraction' must be < 1 (marker inside its square)");
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() =
+        object["base"] ? readVector(object, "base", where) : Eigen::Vector3d::Zero();
+    pose.linear() =
+        Eigen::AngleAxisd(object["yaw_deg"].as<double>(0.0) * M_PI / 180, Eigen::Vector3d::UnitZ())
+            .toRotationMatrix();
+    surface =
+        std::make_unique<CalibrationCylinder>(pose, layout, object["light_albedo"].as<double>(0.9),
+                                              object["dark_albedo"].as<double>(0.5));
   } else if (type == "human") {
     addHumanBody(humanBodyFromYaml(object), scene);
     return;
   } else {
-    throw std::runtime_error(where + ": unknown type '" + type +
-                             "'; use plane, checkerboard, sphere, cylinder or human");
+    throw std::runtime_error(
+        where + ": unknown type '" + type +
+        "'; use plane, checkerboard, sphere, cylinder, calibration_cylinder or human");
   }
   surface->name = object["name"] ? object["name"].as<std::string>() : type;
   scene.add(std::move(surface));

@@ -144,6 +144,44 @@ RenderedPatternSet VirtualPair::render(uint32_t scan_id) const {
   truth.skeleton = scene_->skeleton();
   std::vector<SurfaceSample> samples(static_cast<size_t>(rows) * cols);
 
+  // Printed patterns: mean albedo and colour of the surface over 4x4 samples of the pixel area.
+  // Sample rays come from the pixel's ray and its central differences to the neighbouring
+  // pixels' rays (distortion is smooth over a pixel; no per-sample undistortion).
+  auto ray_at = [&](int u, int v) -> Eigen::Vector3d {
+    u = std::clamp(u, 0, cols - 1);
+    v = std::clamp(v, 0, rows - 1);
+    return camera_rays_[static_cast<size_t>(v) * cols + u].cast<double>();
+  };
+  auto averageOverPixel = [&](const Surface& surface, int u, int v, double& albedo,
+                              Eigen::Vector3d& color) {
+    constexpr int kSamples = 4;
+    const Eigen::Vector3d centre = ray_at(u, v);
+    const Eigen::Vector3d along_u = (ray_at(u + 1, v) - ray_at(u - 1, v)) /
+                                    std::max(1, std::min(u + 1, cols - 1) - std::max(u - 1, 0));
+    const Eigen::Vector3d along_v = (ray_at(u, v + 1) - ray_at(u, v - 1)) /
+                                    std::max(1, std::min(v + 1, rows - 1) - std::max(v - 1, 0));
+    double albedo_sum = 0;
+    Eigen::Vector3d color_sum = Eigen::Vector3d::Zero();
+    int hits = 0;
+    for (int i = 0; i < kSamples; ++i)
+      for (int j = 0; j < kSamples; ++j) {
+        const double du = (j + 0.5) / kSamples - 0.5, dv = (i + 0.5) / kSamples - 0.5;
+        const Eigen::Vector3d direction =
+            rotation * (centre + du * along_u + dv * along_v).normalized();
+        Hit sample;
+        if (!surface.intersect(Ray{pose.translation(), direction}, 1e-6,
+                               std::numeric_limits<double>::infinity(), sample))
+          continue;
+        const Eigen::Vector3d point = pose.translation() + sample.distance * direction;
+        albedo_sum += surface.albedoAt(point);
+        color_sum += surface.colorAt(point);
+        ++hits;
+      }
+    if (hits == 0) return;
+    albedo = albedo_sum / hits;
+    color = color_sum / hits;
+  };
+
   cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& range) {
     for (int v = range.start; v < range.end; ++v)
       for (int u = 0; u < cols; ++u) {
@@ -160,8 +198,9 @@ RenderedPatternSet VirtualPair::render(uint32_t scan_id) const {
         truth.points(v, u) = toVec3f(point_camera);
 
         const Eigen::Vector3d normal_camera = rotation.transpose() * hit.normal;
-        const double albedo = hit.surface->albedoAt(point_world);
-        const Eigen::Vector3d color = hit.surface->colorAt(point_world);
+        double albedo = hit.surface->albedoAt(point_world);
+        Eigen::Vector3d color = hit.surface->colorAt(point_world);
+        if (hit.surface->patterned()) averageOverPixel(*hit.surface, u, v, albedo, color);
         SurfaceSample& sample = samples[index];
         sample.ambient_level = static_cast<float>(sensor.projector_level * albedo * sensor.ambient);
         const double facing = std::max(0.0, -normal_camera.dot(ray_camera));

@@ -10,6 +10,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
 
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -62,8 +63,11 @@ class TriangulateNodelet : public nodelet::Nodelet {
     try {
       triangulator_ = std::make_unique<Triangulator>(loadCalibration(calibration_file_), min_range_,
                                                      max_range_);
-      NODELET_INFO("[%s] calibration loaded from %s (%s)", pair_id.c_str(),
-                   calibration_file_.c_str(), triangulator_->calibration().source.c_str());
+      NODELET_INFO("[%s] calibration loaded from %s (%s)%s", pair_id.c_str(),
+                   calibration_file_.c_str(), triangulator_->calibration().source.c_str(),
+                   triangulator_->calibration().alignment
+                       ? ", world alignment: applying its residual linear part"
+                       : "");
       return true;
     } catch (const std::exception& e) {
       NODELET_ERROR_THROTTLE(5.0, "[%s] %s", pair_id.c_str(), e.what());
@@ -127,6 +131,16 @@ class TriangulateNodelet : public nodelet::Nodelet {
     cloud->data.resize(static_cast<size_t>(cloud->row_step) * cloud->height);
     float* points = reinterpret_cast<float*>(cloud->data.data());
     const size_t valid = triangulator_->triangulate(stripes_.coordinate, points, 4);
+    // World alignment (eq 4.1): tf2 carries the rigid part world -> optical frame; the residual
+    // linear part L of H_a = [R L | t] is applied here, in the camera frame.
+    if (const auto& alignment = triangulator_->calibration().alignment) {
+      const Eigen::Matrix3f residual = alignment->residual_linear.cast<float>();
+      const size_t count = static_cast<size_t>(size.width) * size.height;
+      for (size_t i = 0; i < count; ++i) {
+        Eigen::Map<Eigen::Vector3f> point(points + 4 * i);
+        if (std::isfinite(point.z())) point = residual * point;
+      }
+    }
     // Colour from the texture where it matches the frames, else white.
     const auto texture = view(set.texture, sensor_msgs::image_encodings::RGB8, CV_8UC3);
     const bool coloured = texture && texture->size() == size;

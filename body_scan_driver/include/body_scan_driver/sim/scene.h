@@ -45,6 +45,10 @@ class Surface {
   virtual Eigen::Vector3d colorAt(const Eigen::Vector3d& /*point*/) const {
     return material_.color;
   }
+  // True for printed patterns (checker grids, markers): the renderer averages their albedo over
+  // 4x4 samples of the pixel's area so pattern edges keep their subpixel position; plain
+  // surfaces take one sample and keep their speed.
+  virtual bool patterned() const { return false; }
   // Sphere enclosing the surface, for culling rays; radius infinity for unbounded surfaces.
   virtual double boundingRadius() const = 0;
   virtual Eigen::Vector3d boundingCenter() const = 0;
