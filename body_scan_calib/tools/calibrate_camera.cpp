@@ -1,0 +1,189 @@
+// calibrate_camera: calibrates a camera from a folder of checkerboard images (thesis sec.
+// 3.3.1) and writes a YAML whose camera part camera_calibration_parsers reads, with a report
+// of the reprojection RMS (overall, per image) and the parameter standard deviations.
+//
+//   calibrate_camera --images DIR --cols 9 --rows 6 --square 0.025 --output FILE
+//                    [--camera-name NAME] [--estimate-skew]
+#include <body_scan_calib/camera_calibration.h>
+#include <body_scan_calib/camera_calibration_io.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace body_scan::calib;
+
+namespace {
+
+const char* kUsage =
+    "usage: calibrate_camera --images DIR --cols N --rows N --square METRES --output FILE\n"
+    "                        [--camera-name NAME] [--estimate-skew]\n"
+    "  --cols/--rows  INNER corners of the board (where four squares meet), e.g. 9 and 6\n"
+    "  --square       side of one square in metres, e.g. 0.025\n"
+    "  --output       calibration YAML to write (atomically); its camera part is readable by\n"
+    "                 camera_calibration_parsers\n"
+    "  --estimate-skew  also estimate the skew gamma (default: held at 0)\n";
+
+struct Arguments {
+  std::string images, output, camera_name = "camera";
+  Checkerboard board;
+  bool estimate_skew = false;
+};
+
+[[noreturn]] void usageError(const std::string& message) {
+  std::cerr << "calibrate_camera: " << message << "\n" << kUsage;
+  std::exit(2);
+}
+
+Arguments parseArguments(int argc, char** argv) {
+  Arguments arguments;
+  std::map<std::string, std::string> values;
+  for (int i = 1; i < argc; ++i) {
+    const std::string key = argv[i];
+    if (key == "--help" || key == "-h") {
+      std::cout << kUsage;
+      std::exit(0);
+    }
+    if (key == "--estimate-skew") {
+      arguments.estimate_skew = true;
+      continue;
+    }
+    if (key != "--images" && key != "--cols" && key != "--rows" && key != "--square" &&
+        key != "--output" && key != "--camera-name")
+      usageError("unknown option '" + key + "'");
+    if (i + 1 >= argc) usageError("option " + key + " needs a value");
+    values[key] = argv[++i];
+  }
+  for (const char* required : {"--images", "--output"})
+    if (!values.count(required)) usageError(std::string("missing ") + required);
+  arguments.images = values["--images"];
+  arguments.output = values["--output"];
+  if (values.count("--camera-name")) arguments.camera_name = values["--camera-name"];
+  try {
+    if (values.count("--cols")) arguments.board.inner_cols = std::stoi(values["--cols"]);
+    if (values.count("--rows")) arguments.board.inner_rows = std::stoi(values["--rows"]);
+    if (values.count("--square")) arguments.board.square_size = std::stod(values["--square"]);
+  } catch (const std::exception&) {
+    usageError("--cols and --rows need integers, --square a number of metres");
+  }
+  if (arguments.board.inner_cols < 2 || arguments.board.inner_rows < 2)
+    usageError("--cols and --rows count INNER corners and must be >= 2");
+  if (!(arguments.board.square_size > 0) || arguments.board.square_size > 1)
+    usageError("--square is the square side in METRES (e.g. 0.025), got " + values["--square"]);
+  return arguments;
+}
+
+std::vector<fs::path> listImages(const std::string& folder) {
+  std::vector<fs::path> images;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+    if (!entry.is_regular_file()) continue;
+    std::string extension = entry.path().extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), ::tolower);
+    for (const char* known : {".png", ".jpg", ".jpeg", ".bmp", ".pgm", ".ppm", ".tif", ".tiff"})
+      if (extension == known) images.push_back(entry.path());
+  }
+  std::sort(images.begin(), images.end());
+  return images;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Arguments arguments = parseArguments(argc, argv);
+  if (!fs::is_directory(arguments.images)) {
+    std::cerr << "calibrate_camera: '" << arguments.images
+              << "' is not a folder; pass --images with the folder of board images\n";
+    return 1;
+  }
+  const std::vector<fs::path> files = listImages(arguments.images);
+  if (files.empty()) {
+    std::cerr << "calibrate_camera: no images (.png, .jpg, .bmp, .pgm, .ppm, .tif) in '"
+              << arguments.images << "'\n";
+    return 1;
+  }
+
+  std::vector<std::vector<Eigen::Vector2d>> views;
+  std::vector<std::string> view_names, not_found;
+  int width = 0, height = 0;
+  const Checkerboard& board = arguments.board;
+  for (size_t i = 0; i < files.size(); ++i) {
+    const std::string name = files[i].filename().string();
+    std::printf("[%zu/%zu] %s: ", i + 1, files.size(), name.c_str());
+    const cv::Mat image = cv::imread(files[i].string(), cv::IMREAD_GRAYSCALE);
+    if (image.empty()) {
+      std::printf("cannot be read, skipped\n");
+      not_found.push_back(name + " (unreadable)");
+      continue;
+    }
+    if (width == 0) width = image.cols, height = image.rows;
+    if (image.cols != width || image.rows != height) {
+      std::printf("%dx%d differs from the first image's %dx%d, skipped\n", image.cols, image.rows,
+                  width, height);
+      not_found.push_back(name + " (different size)");
+      continue;
+    }
+    std::vector<Eigen::Vector2d> corners;
+    if (!detectCheckerboardCorners(image, board, corners)) {
+      std::printf("board NOT found\n");
+      not_found.push_back(name);
+      continue;
+    }
+    std::printf("board found (%zu corners)\n", corners.size());
+    views.push_back(corners);
+    view_names.push_back(name);
+  }
+  std::fflush(stdout);
+  if (!not_found.empty()) {
+    std::cerr << "calibrate_camera: board of " << board.inner_cols << "x" << board.inner_rows
+              << " inner corners not found in " << not_found.size() << " of " << files.size()
+              << " images:";
+    for (const std::string& name : not_found) std::cerr << " " << name;
+    std::cerr << "\n";
+  }
+  if (views.size() < 3) {
+    std::cerr << "calibrate_camera: too few views: the board was found in " << views.size()
+              << " images, at least 3 with different tilts are needed. Check --cols/--rows "
+                 "(INNER corners, e.g. 9 and 6 for a 10x7-square board) and that the whole "
+                 "board with its white margin is in view.\n";
+    return 1;
+  }
+
+  CameraCalibrationReport report;
+  report.camera_name = arguments.camera_name;
+  report.board = board;
+  report.view_names = view_names;
+  try {
+    CameraCalibrationOptions options;
+    options.estimate_skew = arguments.estimate_skew;
+    std::printf("calibrating from %zu views (Zhang closed form, then Levenberg-Marquardt)...\n",
+                views.size());
+    report.result = calibrateCamera(views, board, width, height, options);
+    saveCameraCalibration(arguments.output, report);
+  } catch (const CameraCalibrationError& e) {
+    std::cerr << "calibrate_camera: " << e.what() << "\n";
+    return 1;
+  }
+  const CameraCalibrationResult& r = report.result;
+  const body_scan::PinholeCamera& c = r.camera;
+  std::printf("alpha (fx) %10.3f +- %.3f px\n", c.alpha, r.std_devs[0]);
+  std::printf("beta  (fy) %10.3f +- %.3f px\n", c.beta, r.std_devs[1]);
+  std::printf("gamma      %10.4f +- %.4f px%s\n", c.gamma, r.std_devs[2],
+              arguments.estimate_skew ? "" : " (held at 0)");
+  std::printf("u0    (cx) %10.3f +- %.3f px\n", c.u0, r.std_devs[3]);
+  std::printf("v0    (cy) %10.3f +- %.3f px\n", c.v0, r.std_devs[4]);
+  std::printf("k1         %10.5f +- %.5f\n", c.k1, r.std_devs[5]);
+  std::printf("k2         %10.5f +- %.5f\n", c.k2, r.std_devs[6]);
+  std::printf("reprojection RMS %.4f px over %zu views (%d iterations)\n", r.rms_px, views.size(),
+              r.iterations);
+  for (size_t i = 0; i < views.size(); ++i)
+    std::printf("  %-24s rms %.4f px\n", view_names[i].c_str(), r.per_view_rms_px[i]);
+  std::printf("wrote %s\n", arguments.output.c_str());
+  return 0;
+}
