@@ -1,0 +1,117 @@
+#include <body_scan_calib/calibration_bag.h>
+#include <body_scan_calib/calibration_capture.h>
+#include <body_scan_driver/gray_code.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include <filesystem>
+#include <map>
+#include <set>
+
+namespace body_scan::calib {
+
+std::vector<cv::Mat> patternFrames(const body_scan_msgs::PatternSet& set) {
+  const std::string scan =
+      "pattern set of scan " + std::to_string(set.scan_id) + " (" + set.pair_id + ")";
+  if (set.bits < 1 || set.bits > 10)
+    throw CalibrationBagError(scan + ": bits " + std::to_string(set.bits) + " is not in 1..10");
+  const PatternLayout layout(set.bits, set.inverse_frames);
+  if (static_cast<int>(set.frames.size()) != layout.frameCount())
+    throw CalibrationBagError(scan + " has " + std::to_string(set.frames.size()) + " frames; " +
+                              std::to_string(set.bits) + " bits" +
+                              (set.inverse_frames ? " with inverses" : "") + " need " +
+                              std::to_string(layout.frameCount()));
+  std::vector<cv::Mat> frames;
+  for (size_t f = 0; f < set.frames.size(); ++f) {
+    const sensor_msgs::Image& image = set.frames[f];
+    if (image.encoding != "mono8" || image.step < image.width ||
+        image.data.size() < static_cast<size_t>(image.step) * image.height)
+      throw CalibrationBagError(scan + ": frame " + std::to_string(f) +
+                                " is not a complete mono8 image (encoding '" + image.encoding +
+                                "'); record the PairDriver's pattern_set topic unchanged");
+    if (f > 0 && (image.width != set.frames[0].width || image.height != set.frames[0].height))
+      throw CalibrationBagError(scan + ": frame " + std::to_string(f) + " differs in size");
+    frames.push_back(cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), CV_8UC1,
+                             const_cast<uint8_t*>(image.data.data()), image.step)
+                         .clone());
+  }
+  return frames;
+}
+
+BagConversionResult bagToCalibrationFolder(
+    const std::string& bag_path, const std::string& folder, const BagConversionOptions& options,
+    const std::function<void(const std::string&)>& progress) {
+  rosbag::Bag bag;
+  try {
+    bag.open(bag_path, rosbag::bagmode::Read);
+  } catch (const rosbag::BagException& e) {
+    throw CalibrationBagError("cannot open bag '" + bag_path + "': " + e.what() +
+                              " (check the path; record with rosbag record)");
+  }
+  const std::string type = ros::message_traits::DataType<body_scan_msgs::PatternSet>::value();
+  rosbag::View view = options.topic.empty() ? rosbag::View(bag, rosbag::TypeQuery(type))
+                                            : rosbag::View(bag, rosbag::TopicQuery(options.topic));
+
+  std::vector<body_scan_msgs::PatternSet::ConstPtr> sets;
+  std::set<std::string> pairs;
+  for (const rosbag::MessageInstance& message : view) {
+    const body_scan_msgs::PatternSet::ConstPtr set =
+        message.instantiate<body_scan_msgs::PatternSet>();
+    if (!set)
+      throw CalibrationBagError("topic " + message.getTopic() + " of '" + bag_path + "' holds " +
+                                message.getDataType() + ", not " + type);
+    if (!options.pair_id.empty() && set->pair_id != options.pair_id) continue;
+    pairs.insert(set->pair_id);
+    sets.push_back(set);
+  }
+  if (sets.empty())
+    throw CalibrationBagError(
+        "'" + bag_path + "' holds no " + type + " messages" +
+        (options.topic.empty() ? "" : " on " + options.topic) +
+        (options.pair_id.empty() ? "" : " of pair " + options.pair_id) +
+        "; record the pair's pattern_set topic (see README 'Calibrating a pair')");
+  if (pairs.size() > 1) {
+    std::string list;
+    for (const std::string& pair : pairs) list += " " + pair;
+    throw CalibrationBagError("'" + bag_path + "' holds pattern sets of several pairs (" +
+                              list.substr(1) + "); choose one with --pair-id");
+  }
+
+  std::vector<uint32_t> scan_ids;
+  for (const auto& set : sets) scan_ids.push_back(set->scan_id);
+  const std::vector<std::vector<size_t>> groups = groupConsecutiveScanIds(scan_ids);
+  BagConversionResult result;
+  result.pattern_sets = sets.size();
+  result.bits = sets.front()->bits;
+  for (size_t g = 0; g < groups.size(); ++g) {
+    std::vector<std::vector<cv::Mat>> captures;
+    for (size_t index : groups[g]) {
+      const body_scan_msgs::PatternSet& set = *sets[index];
+      if (set.bits != sets.front()->bits || set.inverse_frames != sets.front()->inverse_frames)
+        throw CalibrationBagError("scan " + std::to_string(set.scan_id) +
+                                  " uses another pattern set (bits, inverses) than scan " +
+                                  std::to_string(sets.front()->scan_id) +
+                                  "; record one calibration with one pattern set");
+      captures.push_back(patternFrames(set));
+    }
+    const bool spheres = options.spheres_last && g + 1 == groups.size();
+    const std::string name = spheres ? kSphereFolderName : poseFolderName(g);
+    const std::string path = (std::filesystem::path(folder) / name).string();
+    std::vector<cv::Mat> frames;
+    try {
+      frames = averageCaptures(captures);
+    } catch (const std::invalid_argument& e) {
+      throw CalibrationBagError("scans " + std::to_string(scan_ids[groups[g].front()]) + ".." +
+                                std::to_string(scan_ids[groups[g].back()]) + ": " + e.what());
+    }
+    writeCaptureFolder(path, frames);
+    result.folders.push_back(path);
+    if (progress)
+      progress(path + ": scans " + std::to_string(scan_ids[groups[g].front()]) + ".." +
+               std::to_string(scan_ids[groups[g].back()]) + " (" +
+               std::to_string(groups[g].size()) + " averaged)");
+  }
+  return result;
+}
+
+}  // namespace body_scan::calib
