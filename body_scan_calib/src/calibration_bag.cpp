@@ -52,8 +52,12 @@ BagConversionResult bagToCalibrationFolder(
   rosbag::View view = options.topic.empty() ? rosbag::View(bag, rosbag::TypeQuery(type))
                                             : rosbag::View(bag, rosbag::TopicQuery(options.topic));
 
-  std::vector<body_scan_msgs::PatternSet::ConstPtr> sets;
+  // Two passes keep one placement in memory at a time (a 16-exposure calibration is ~1 GB):
+  // the first checks the pairs and finds the runs of scan ids, the second converts them.
   std::set<std::string> pairs;
+  std::vector<uint32_t> scan_ids;
+  uint8_t bits = 0;
+  bool inverse_frames = false;
   for (const rosbag::MessageInstance& message : view) {
     const body_scan_msgs::PatternSet::ConstPtr set =
         message.instantiate<body_scan_msgs::PatternSet>();
@@ -61,10 +65,18 @@ BagConversionResult bagToCalibrationFolder(
       throw CalibrationBagError("topic " + message.getTopic() + " of '" + bag_path + "' holds " +
                                 message.getDataType() + ", not " + type);
     if (!options.pair_id.empty() && set->pair_id != options.pair_id) continue;
+    if (scan_ids.empty()) {
+      bits = set->bits;
+      inverse_frames = set->inverse_frames;
+    } else if (set->bits != bits || set->inverse_frames != inverse_frames) {
+      throw CalibrationBagError("scan " + std::to_string(set->scan_id) +
+                                " uses another pattern set (bits, inverses) than the first; "
+                                "record one calibration with one pattern set");
+    }
     pairs.insert(set->pair_id);
-    sets.push_back(set);
+    scan_ids.push_back(set->scan_id);
   }
-  if (sets.empty())
+  if (scan_ids.empty())
     throw CalibrationBagError(
         "'" + bag_path + "' holds no " + type + " messages" +
         (options.topic.empty() ? "" : " on " + options.topic) +
@@ -77,39 +89,34 @@ BagConversionResult bagToCalibrationFolder(
                               list.substr(1) + "); choose one with --pair-id");
   }
 
-  std::vector<uint32_t> scan_ids;
-  for (const auto& set : sets) scan_ids.push_back(set->scan_id);
   const std::vector<std::vector<size_t>> groups = groupConsecutiveScanIds(scan_ids);
   BagConversionResult result;
-  result.pattern_sets = sets.size();
-  result.bits = sets.front()->bits;
-  for (size_t g = 0; g < groups.size(); ++g) {
-    std::vector<std::vector<cv::Mat>> captures;
-    for (size_t index : groups[g]) {
-      const body_scan_msgs::PatternSet& set = *sets[index];
-      if (set.bits != sets.front()->bits || set.inverse_frames != sets.front()->inverse_frames)
-        throw CalibrationBagError("scan " + std::to_string(set.scan_id) +
-                                  " uses another pattern set (bits, inverses) than scan " +
-                                  std::to_string(sets.front()->scan_id) +
-                                  "; record one calibration with one pattern set");
-      captures.push_back(patternFrames(set));
-    }
-    const bool spheres = options.spheres_last && g + 1 == groups.size();
-    const std::string name = spheres ? kSphereFolderName : poseFolderName(g);
+  result.pattern_sets = scan_ids.size();
+  result.bits = bits;
+  size_t group = 0;
+  std::vector<std::vector<cv::Mat>> captures;
+  for (const rosbag::MessageInstance& message : view) {
+    const body_scan_msgs::PatternSet::ConstPtr set =
+        message.instantiate<body_scan_msgs::PatternSet>();
+    if (!options.pair_id.empty() && set->pair_id != options.pair_id) continue;
+    captures.push_back(patternFrames(*set));
+    if (captures.size() < groups[group].size()) continue;
+    // The placement's last set: average and write it.
+    const std::string scans = std::to_string(scan_ids[groups[group].front()]) + ".." +
+                              std::to_string(scan_ids[groups[group].back()]);
+    const bool spheres = options.spheres_last && group + 1 == groups.size();
+    const std::string name = spheres ? kSphereFolderName : poseFolderName(group);
     const std::string path = (std::filesystem::path(folder) / name).string();
-    std::vector<cv::Mat> frames;
     try {
-      frames = averageCaptures(captures);
+      writeCaptureFolder(path, averageCaptures(captures));
     } catch (const std::invalid_argument& e) {
-      throw CalibrationBagError("scans " + std::to_string(scan_ids[groups[g].front()]) + ".." +
-                                std::to_string(scan_ids[groups[g].back()]) + ": " + e.what());
+      throw CalibrationBagError("scans " + scans + ": " + e.what());
     }
-    writeCaptureFolder(path, frames);
     result.folders.push_back(path);
     if (progress)
-      progress(path + ": scans " + std::to_string(scan_ids[groups[g].front()]) + ".." +
-               std::to_string(scan_ids[groups[g].back()]) + " (" +
-               std::to_string(groups[g].size()) + " averaged)");
+      progress(path + ": scans " + scans + " (" + std::to_string(captures.size()) + " averaged)");
+    captures.clear();
+    ++group;
   }
   return result;
 }

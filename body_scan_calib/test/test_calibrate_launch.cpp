@@ -2,6 +2,8 @@
 // that loadCalibration reads and whose stripe planes match the simulated pair's true (factory)
 // planes, plus the accuracy report and the Fig 3.6 plot; and the driver's ~set_scene must
 // refuse bad scenes with a clear message while the driver keeps serving.
+#include <body_scan_calib/calibration_bag.h>
+#include <body_scan_calib/calibration_capture.h>
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <body_scan_msgs/SetScene.h>
@@ -10,11 +12,16 @@
 
 #include <cmath>
 #include <filesystem>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 using namespace body_scan;
 namespace fs = std::filesystem;
 
 namespace {
+
+// Files older than the test process are from an earlier run.
+fs::file_time_type test_start;
 
 std::string param(const std::string& name) {
   std::string value;
@@ -85,7 +92,7 @@ TEST(SetScene, RefusesBadScenesAndTheDriverKeepsServing) {
 }
 
 TEST(CalibrateLaunch, WritesACalibrationWhosePlanesMatchTheTruePlanes) {
-  const auto start = fs::file_time_type::clock::now() - std::chrono::seconds(2);
+  const auto start = test_start;
   const std::string calibration_file = param("calibration_file");
   const std::vector<std::string> files = {calibration_file, param("report_file"),
                                           param("plot_file")};
@@ -126,7 +133,34 @@ TEST(CalibrateLaunch, WritesACalibrationWhosePlanesMatchTheTruePlanes) {
   EXPECT_NEAR(estimated.camera.alpha / truth.camera.alpha, 1.0, 0.01);
 }
 
+// The launch also recorded the raw pattern sets: converted offline, they give the very folder
+// the live capture wrote (one exposure per pose: no averaging, frame for frame).
+TEST(CalibrateLaunch, RecordedBagConvertsToTheCapturedFolder) {
+  const std::string bag = param("bag"), images = param("images");
+  const auto start = test_start;
+  ASSERT_TRUE(waitForFiles({bag, param("plot_file")}, start, 240));
+  const fs::path converted = fs::path(bag).parent_path() / "converted_from_bag";
+  fs::remove_all(converted);
+  const calib::BagConversionResult result =
+      calib::bagToCalibrationFolder(bag, converted.string(), {});
+  ASSERT_EQ(result.folders.size(), 11u);  // the rig's poses, no spheres in this test
+  int compared = 0, differing = 0;
+  for (size_t pose = 0; pose < result.folders.size(); ++pose)
+    for (int f = 0; f < 18; ++f) {
+      const std::string name = calib::poseFolderName(pose) + "/" + calib::frameFileName(f);
+      const cv::Mat live = cv::imread(images + "/" + name, cv::IMREAD_UNCHANGED);
+      const cv::Mat offline = cv::imread((converted / name).string(), cv::IMREAD_UNCHANGED);
+      ASSERT_FALSE(live.empty() || offline.empty()) << name;
+      ASSERT_EQ(live.size(), offline.size()) << name;
+      differing += cv::countNonZero(live != offline);
+      ++compared;
+    }
+  EXPECT_EQ(compared, 11 * 18);
+  EXPECT_EQ(differing, 0);
+}
+
 int main(int argc, char** argv) {
+  test_start = fs::file_time_type::clock::now() - std::chrono::seconds(1);
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_calibrate_launch");
   ros::NodeHandle nh;
