@@ -81,12 +81,14 @@ class PatternSetWaiter {
 std::string describeBoardPose(const Eigen::Isometry3d& pose) {
   const Eigen::Vector3d normal = pose.linear().col(2);
   const double tilt_deg = std::acos(std::min(1.0, std::abs(normal.z()))) * 180 / M_PI;
+  // Camera optical frame: x right, y down, z forward.
+  const Eigen::Vector3d& c = pose.translation();
   char text[200];
   std::snprintf(text, sizeof(text),
-                "board centre %.0f mm right, %.0f mm down, %.0f mm in front of the camera, "
-                "tilted %.0f deg from facing it",
-                pose.translation().x() * 1e3, pose.translation().y() * 1e3,
-                pose.translation().z() * 1e3, tilt_deg);
+                "centre %.0f mm %s, %.0f mm %s, %.0f mm in front of the camera, tilted "
+                "%.0f deg from facing it",
+                std::abs(c.x()) * 1e3, c.x() < 0 ? "left" : "right", std::abs(c.y()) * 1e3,
+                c.y() < 0 ? "up" : "down", c.z() * 1e3, tilt_deg);
   return text;
 }
 
