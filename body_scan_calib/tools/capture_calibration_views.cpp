@@ -25,10 +25,6 @@
 #include <memory>
 #include <mutex>
 
-#ifndef CALIBRATE_PAIR_EXECUTABLE
-#define CALIBRATE_PAIR_EXECUTABLE "calibrate_pair"
-#endif
-
 using namespace body_scan;
 namespace fs = std::filesystem;
 
@@ -116,6 +112,13 @@ std::vector<Placement> placements(const Settings& settings,
   return result;
 }
 
+// calibrate_pair is installed next to this node (devel and install space alike).
+std::string siblingCalibratePair() {
+  std::error_code error;
+  const fs::path self = fs::read_symlink("/proc/self/exe", error);
+  return error ? "calibrate_pair" : (self.parent_path() / "calibrate_pair").string();
+}
+
 int runCalibratePair(const Settings& settings, int bits) {
   std::vector<std::string> arguments = {settings.calibrate_pair,
                                         "--images",
@@ -159,7 +162,7 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   pnh.param("spheres", settings.spheres, true);
   pnh.param("capture_timeout", settings.capture_timeout, 30.0);
   pnh.param("calibrate", settings.calibrate, false);
-  pnh.param<std::string>("calibrate_pair", settings.calibrate_pair, CALIBRATE_PAIR_EXECUTABLE);
+  pnh.param<std::string>("calibrate_pair", settings.calibrate_pair, siblingCalibratePair());
   pnh.param<std::string>("calibration_file", settings.calibration_file, "");
   pnh.param<std::string>("report_file", settings.report_file, "");
   pnh.param<std::string>("plot_file", settings.plot_file, "");
