@@ -37,7 +37,8 @@ CMAKE_BUILD_TYPE ?= Release
 #   libusb-1.0-0-dev, libuvc-dev, libx11-dev: the hardware backend (USB enumeration and
 #       hot-plug, UVC cameras, the projector's full-screen pattern window);
 #       libdiagnostic-updater-dev, libdynamic-reconfigure-config-init-mutex-dev,
-#       python3-dynamic-reconfigure: device health on /diagnostics, run-time camera settings
+#       python3-dynamic-reconfigure, python3-diagnostic-msgs: device health on /diagnostics
+#       (and `rostopic echo /diagnostics`), run-time camera settings
 #   libgtest-dev, libbenchmark-dev: unit tests (catkin_add_gtest) and Google Benchmark
 #   xvfb, xauth: headless X for anything that needs a display; imagemagick: demo images
 DEB_PACKAGES := \
@@ -48,7 +49,7 @@ DEB_PACKAGES := \
 	librosbag-dev python3-rosbag \
 	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libceres-dev \
 	libusb-1.0-0-dev libuvc-dev libx11-dev libdiagnostic-updater-dev \
-	libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure \
+	libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure python3-diagnostic-msgs \
 	libgtest-dev libbenchmark-dev \
 	xvfb xauth imagemagick opencv-doc
 

@@ -12,6 +12,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace body_scan {
@@ -19,6 +20,18 @@ namespace body_scan {
 struct PatternCapture {
   std::vector<cv::Mat> frames;  // CV_8UC1 in PatternLayout order
   cv::Mat texture;              // CV_8UC3 RGB
+};
+
+// Health of a device for /diagnostics (issue 8): what it is, its connection state, and why.
+struct DeviceStatus {
+  enum class Level { kOk, kWarn, kError };
+  Level level = Level::kOk;
+  std::string hardware_id;  // e.g. "simulator" or "uvc 046d:0825/SERIAL + display :0.0"
+  std::string state;        // e.g. STREAMING, ERROR
+  std::string message;      // one line: what is wrong and how to fix it, or "streaming"
+  double frame_rate_hz = 0;
+  uint64_t dropped_frames = 0;
+  std::vector<std::pair<std::string, std::string>> values;  // further key/values
 };
 
 class PairDevice {
@@ -39,6 +52,17 @@ class PairDevice {
     throw std::runtime_error(
         "this pair captures the real world: its scene cannot be set; place the target by hand "
         "(or use backend:=sim)");
+  }
+  // Called periodically by the driver: hardware reconnects here. Must not throw.
+  virtual void poll() {}
+  // Thread-safe: may be called while capture() runs. Not pure, so that devices written before
+  // diagnostics existed (test doubles, replay) still compile; they report no health.
+  virtual DeviceStatus status() const {
+    DeviceStatus status;
+    status.hardware_id = "none";
+    status.state = "UNKNOWN";
+    status.message = "this device reports no health";
+    return status;
   }
 };
 

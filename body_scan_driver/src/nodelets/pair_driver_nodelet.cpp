@@ -1,10 +1,16 @@
 // PairDriver: captures pattern sets from one pair and publishes them (DESIGN.md section 3).
+// backend:=sim (the virtual pair) or backend:=usb (a real pair, issue 8); device health goes
+// to /diagnostics for every backend.
+#include <body_scan_driver/UsbPairSettingsConfig.h>
 #include <body_scan_driver/calibration_file.h>
+#include <body_scan_driver/hw/usb_pair_device.h>
 #include <body_scan_driver/pair_device.h>
 #include <body_scan_driver/ros/conversions.h>
 #include <body_scan_msgs/Capture.h>
 #include <body_scan_msgs/PatternSet.h>
 #include <body_scan_msgs/SetScene.h>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
@@ -13,6 +19,7 @@
 #include <std_msgs/UInt32.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
+#include <atomic>
 #include <mutex>
 #include <pluginlib/class_list_macros.hpp>
 
@@ -56,12 +63,32 @@ class PairDriverNodelet : public nodelet::Nodelet {
               return true;
             });
 
+    diagnostics_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+    diagnostics_->setHardwareID("none");
+    diagnostics_->add("pair " + pair_id_, this, &PairDriverNodelet::diagnose);
+    diagnostics_timer_ = nh.createWallTimer(
+        ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
+
     try {
       if (backend == "sim") {
         device_ = makeSimulatedPair(pnh.param<std::string>("pair_file", ""),
                                     pnh.param<std::string>("scene_file", ""));
+      } else if (backend == "usb") {
+        const hw::UsbPairSettings settings = usbSettings(pnh);
+        usb_camera_settings_ = settings.camera_settings;
+        auto usb = std::make_unique<hw::UsbPairDevice>(settings, hw::realHardware());
+        usb_device_ = usb.get();
+        device_ = std::move(usb);
+        reconfigure_server_ =
+            std::make_unique<dynamic_reconfigure::Server<body_scan_driver::UsbPairSettingsConfig>>(
+                pnh);
+        reconfigure_server_->setCallback([this](body_scan_driver::UsbPairSettingsConfig& config,
+                                                uint32_t) { onReconfigure(config); });
+        // Reconnects (DISCONNECTED/ERROR -> STREAMING) and hot-plug events happen here.
+        poll_timer_ = nh.createWallTimer(ros::WallDuration(pnh.param("poll_period", 0.1)),
+                                         [this](const ros::WallTimerEvent&) { pollDevice(); });
       } else {
-        throw std::runtime_error("backend '" + backend + "' is not available; use backend:=sim");
+        throw std::runtime_error("backend '" + backend + "' is unknown; use backend:=sim or usb");
       }
     } catch (const std::exception& e) {
       // Stay alive so the other pairs in this manager keep working; captures report the error.
@@ -80,6 +107,84 @@ class PairDriverNodelet : public nodelet::Nodelet {
                  device_->layout().bits(), device_->layout().inverseFrames() ? " + inverses" : "",
                  rate > 0 ? ("capturing at " + std::to_string(rate) + " Hz").c_str()
                           : "capturing on ~capture or scan_trigger");
+  }
+
+  // Parameters of backend:=usb (README "Setting up a real pair"). Throws on a malformed id.
+  hw::UsbPairSettings usbSettings(ros::NodeHandle& pnh) const {
+    hw::UsbPairSettings settings;
+    settings.pair_id = pair_id_;
+    settings.camera = hw::UsbDeviceMatch::parse(pnh.param<std::string>("camera_id", ""),
+                                                pnh.param<std::string>("camera_serial", ""));
+    const std::string projector_id = pnh.param<std::string>("projector_id", "");
+    if (!projector_id.empty())
+      settings.projector_usb =
+          hw::UsbDeviceMatch::parse(projector_id, pnh.param<std::string>("projector_serial", ""));
+    settings.projector_display = pnh.param<std::string>("projector_display", ":0");
+    settings.projector_screen = pnh.param("projector_screen", -1);
+    hw::UvcSettings& camera = settings.camera_settings;
+    camera.format = pnh.param<std::string>("camera_format", camera.format);
+    camera.width = pnh.param("camera_width", camera.width);
+    camera.height = pnh.param("camera_height", camera.height);
+    camera.fps = pnh.param("camera_fps", camera.fps);
+    camera.exposure_ms = pnh.param("exposure_ms", camera.exposure_ms);
+    camera.gain = pnh.param("gain", camera.gain);
+    settings.sequencer.settle_frames = pnh.param("settle_frames", 2);
+    settings.sequencer.frame_timeout_s = pnh.param("frame_timeout", 1.0);
+    const std::string stripes = pnh.param<std::string>("stripes_along", "rows");
+    if (stripes != "rows" && stripes != "columns")
+      throw std::invalid_argument("stripes_along must be rows (vertical baseline) or columns");
+    settings.sequencer.direction =
+        stripes == "rows" ? hw::StripeDirection::kAlongRows : hw::StripeDirection::kAlongColumns;
+    settings.bits = pnh.param("bits", 8);
+    settings.inverse_frames = pnh.param("inverse_frames", true);
+    settings.calibration_file = pnh.param<std::string>("calibration_file", "");
+    settings.retry.initial_interval_s = pnh.param("retry_initial_interval", 0.5);
+    settings.retry.max_interval_s = pnh.param("retry_max_interval", 10.0);
+    return settings;
+  }
+
+  // Reconnects; logs each change of the connection state once (details on /diagnostics).
+  void pollDevice() {
+    device_->poll();
+    const DeviceStatus status = device_->status();
+    if (status.state == last_logged_state_) return;
+    last_logged_state_ = status.state;
+    if (status.level == DeviceStatus::Level::kError)
+      NODELET_ERROR("[%s] %s: %s", pair_id_.c_str(), status.state.c_str(), status.message.c_str());
+    else
+      NODELET_INFO("[%s] %s: %s", pair_id_.c_str(), status.state.c_str(), status.message.c_str());
+  }
+
+  void onReconfigure(const body_scan_driver::UsbPairSettingsConfig& config) {
+    hw::UvcSettings camera = usb_camera_settings_;
+    camera.exposure_ms = config.exposure_ms;
+    camera.gain = config.gain;
+    try {
+      usb_device_->applySettings(camera, config.settle_frames);
+      usb_camera_settings_ = camera;
+    } catch (const std::exception& e) {
+      NODELET_ERROR("[%s] settings not applied: %s", pair_id_.c_str(), e.what());
+    }
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    if (!device_) {
+      stat.hardware_id = "none";
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                   "pair not available: " + device_error_);
+      return;
+    }
+    const DeviceStatus status = device_->status();
+    static constexpr uint8_t kLevels[] = {diagnostic_msgs::DiagnosticStatus::OK,
+                                          diagnostic_msgs::DiagnosticStatus::WARN,
+                                          diagnostic_msgs::DiagnosticStatus::ERROR};
+    stat.hardware_id = status.hardware_id;
+    stat.summary(kLevels[static_cast<int>(status.level)], status.message);
+    stat.add("state", status.state);
+    stat.addf("frame rate (Hz)", "%.2f", status.frame_rate_hz);
+    stat.add("dropped frames", status.dropped_frames);
+    stat.add("pattern sets published", published_sets_.load());
+    for (const auto& [key, value] : status.values) stat.add(key, value);
   }
 
   // The simulator knows its true geometry: write it as a calibration file and announce its
@@ -146,6 +251,7 @@ class PairDriverNodelet : public nodelet::Nodelet {
     const body_scan_msgs::PatternSetPtr set = toPatternSet(
         capture, device_->layout(), device_->camera(), header, pair_id_, last_scan_id_);
     pattern_pub_.publish(set);  // shared pointer: zero copy to nodelets in this manager
+    ++published_sets_;
     if (image_pub_.getNumSubscribers() > 0) image_pub_.publish(set->texture);
     info_pub_.publish(set->camera_info);
     message = "captured scan " + std::to_string(last_scan_id_);
@@ -153,6 +259,14 @@ class PairDriverNodelet : public nodelet::Nodelet {
   }
 
   std::unique_ptr<PairDevice> device_;
+  hw::UsbPairDevice* usb_device_ = nullptr;  // device_ when backend:=usb
+  hw::UvcSettings usb_camera_settings_;
+  std::unique_ptr<dynamic_reconfigure::Server<body_scan_driver::UsbPairSettingsConfig>>
+      reconfigure_server_;
+  std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
+  ros::WallTimer diagnostics_timer_, poll_timer_;
+  std::atomic<uint64_t> published_sets_{0};
+  std::string last_logged_state_;
   std::string device_error_, pair_id_, frame_id_, world_frame_;
   uint32_t last_scan_id_ = 0;
   std::mutex capture_mutex_;

@@ -25,6 +25,13 @@ class SimulatedPairDevice : public PairDevice {
     auto scene = std::make_shared<sim::Scene>(sim::parseScene(scene_yaml));
     pair_ = sim::VirtualPair(pair_.config(), std::move(scene));
   }
+  DeviceStatus status() const override {
+    DeviceStatus status;
+    status.hardware_id = "simulator " + pair_.config().pair_id;
+    status.state = "STREAMING";
+    status.message = "simulated pair: always available";
+    return status;
+  }
 
  private:
   sim::VirtualPair pair_;
