@@ -1,5 +1,6 @@
 #include <body_scan_calib/calibration_bag.h>
 #include <body_scan_calib/calibration_capture.h>
+#include <body_scan_calib/capture_folder.h>
 #include <body_scan_driver/gray_code.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -105,10 +106,10 @@ BagConversionResult bagToCalibrationFolder(
     const std::string scans = std::to_string(scan_ids[groups[group].front()]) + ".." +
                               std::to_string(scan_ids[groups[group].back()]);
     const bool spheres = options.spheres_last && group + 1 == groups.size();
-    const std::string name = spheres ? kSphereFolderName : poseFolderName(group);
+    const std::string name = spheres ? kSphereFolderName : poseFolderName(static_cast<int>(group));
     const std::string path = (std::filesystem::path(folder) / name).string();
     try {
-      writeCaptureFolder(path, averageCaptures(captures));
+      savePatternFrames(path, averageCaptures(captures));
     } catch (const std::invalid_argument& e) {
       throw CalibrationBagError("scans " + scans + ": " + e.what());
     }

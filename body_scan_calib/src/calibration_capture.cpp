@@ -1,10 +1,7 @@
 #include <body_scan_calib/calibration_capture.h>
-#include <body_scan_driver/atomic_file.h>
 
 #include <cstdio>
-#include <filesystem>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -98,28 +95,6 @@ std::vector<cv::Mat> averageCaptures(const std::vector<std::vector<cv::Mat>>& ca
   for (size_t f = 0; f < sums.size(); ++f)
     sums[f].convertTo(frames[f], CV_8U, 1.0 / static_cast<double>(captures.size()));
   return frames;
-}
-
-std::string poseFolderName(size_t pose) {
-  char name[32];
-  std::snprintf(name, sizeof(name), "pose_%02zu", pose);
-  return name;
-}
-
-std::string frameFileName(size_t frame) {
-  char name[32];
-  std::snprintf(name, sizeof(name), "frame_%02zu.png", frame);
-  return name;
-}
-
-void writeCaptureFolder(const std::string& folder, const std::vector<cv::Mat>& frames) {
-  for (size_t f = 0; f < frames.size(); ++f) {
-    std::vector<uchar> png;
-    if (!cv::imencode(".png", frames[f], png))
-      throw std::runtime_error("cannot encode frame " + std::to_string(f) + " for " + folder);
-    writeFileAtomically((std::filesystem::path(folder) / frameFileName(f)).string(),
-                        std::string(png.begin(), png.end()));
-  }
 }
 
 std::vector<std::vector<size_t>> groupConsecutiveScanIds(const std::vector<uint32_t>& scan_ids) {

@@ -1,3 +1,4 @@
+#include <body_scan_calib/joint_refinement.h>
 #include <body_scan_calib/pair_calibration_pipeline.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
@@ -161,6 +162,34 @@ PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& po
       " stripes seen on fewer than " + std::to_string(projector_options.min_poses_per_stripe) +
       " poses (stored as NaN), rms " + std::to_string(outcome.planes.rms_m * 1e3) + " mm");
 
+  if (options.joint_refinement) {
+    report("joint refinement of camera, board poses and planes (Ceres)...");
+    JointRefinementInput input;
+    input.camera = outcome.camera.camera;
+    input.board_to_camera = outcome.camera.board_to_camera;
+    input.corners = outcome.camera.corners;
+    for (int row = 0; row < options.board.inner_rows; ++row)
+      for (int col = 0; col < options.board.inner_cols; ++col)
+        input.board_points.emplace_back(col * options.board.square_size,
+                                        row * options.board.square_size, 0.0);
+    input.planes = &outcome.planes;
+    const JointRefinementResult refined = refineJointly(input);
+    const double plane_rms_before = outcome.planes.rms_m;
+    outcome.camera.camera = refined.camera;
+    outcome.camera.board_to_camera = refined.board_to_camera;
+    outcome.camera.rms_px = refined.corner_rms_px_after;
+    for (size_t pose = 0; pose < observations.size(); ++pose)
+      observations[pose].board_to_camera = refined.board_to_camera[pose];
+    // With camera and poses at the optimum, the least-squares planes are the refined planes.
+    outcome.planes = calibrateStripePlanes(refined.camera, observations, projector_options);
+    std::ostringstream line;
+    line << refined.summary << "; corner rms " << refined.corner_rms_px_before << " -> "
+         << refined.corner_rms_px_after << " px, plane-fit rms " << plane_rms_before * 1e3 << " -> "
+         << outcome.planes.rms_m * 1e3 << " mm";
+    outcome.refinement_summary = line.str();
+    report(outcome.refinement_summary);
+  }
+
   std::vector<double> coordinates;
   for (int stripe : outcome.planes.point_stripes) coordinates.push_back(stripe + 0.5);
   outcome.pinhole = estimatePinholeProjector(outcome.planes.points, coordinates);
@@ -277,6 +306,7 @@ std::string accuracyReportYaml(const PairCalibrationOutcome& outcome,
                                const std::vector<AccuracyEvaluation>& evaluations,
                                const std::vector<std::string>& notes) {
   YAML::Emitter out;
+  out.SetDoublePrecision(6);
   out << YAML::BeginMap;
   out << YAML::Key << "pair_id" << YAML::Value << outcome.calibration.pair_id;
   out << YAML::Key << "notes" << YAML::Value << YAML::BeginSeq;

@@ -156,12 +156,14 @@ ProjectorCalibrationResult calibrateStripePlanes(
     std::vector<Eigen::Vector3d> inliers;
     for (const Eigen::Vector3d& p : points)
       if (std::abs(fit.plane.head<3>().dot(p) + fit.plane[3]) <= limit) inliers.push_back(p);
-    if (inliers.size() >= 3 && inliers.size() < points.size()) fit = fitPlane(inliers);
+    const bool refit = inliers.size() >= 3 && inliers.size() < points.size();
+    if (refit) fit = fitPlane(inliers);
+    const size_t used = refit ? inliers.size() : points.size();
     result.projector.planes[stripe] = fit.plane;
-    result.points_per_stripe[stripe] = static_cast<int>(inliers.size());
+    result.points_per_stripe[stripe] = static_cast<int>(used);
     result.rms_per_stripe_m[stripe] = fit.rms;
-    squared_sum += fit.rms * fit.rms * inliers.size();
-    fitted_points += inliers.size();
+    squared_sum += fit.rms * fit.rms * used;
+    fitted_points += used;
   }
   result.rms_m = fitted_points ? std::sqrt(squared_sum / fitted_points) : kNaN;
   return result;

@@ -4,6 +4,7 @@
 #include <body_scan_calib/calibration_bag.h>
 #include <body_scan_calib/calibration_capture.h>
 #include <body_scan_calib/calibration_rig.h>
+#include <body_scan_calib/capture_folder.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
@@ -126,11 +127,8 @@ body_scan_msgs::PatternSet randomSet(uint32_t scan_id, const std::string& pair_i
   return set;
 }
 
-std::vector<cv::Mat> readFolder(const fs::path& folder, int count) {
-  std::vector<cv::Mat> frames;
-  for (int f = 0; f < count; ++f)
-    frames.push_back(cv::imread((folder / calib::frameFileName(f)).string(), cv::IMREAD_UNCHANGED));
-  return frames;
+std::vector<cv::Mat> readFolder(const fs::path& folder) {
+  return calib::loadPatternFrames(folder.string(), PatternLayout(kBits, true));
 }
 
 }  // namespace
@@ -172,10 +170,10 @@ TEST(CalibrationBag, ConvertsRunsOfScanIdsToPoseFoldersFrameForFrame) {
   EXPECT_TRUE(fs::is_directory(out / "spheres"));
   EXPECT_FALSE(fs::exists(out / "pose_02"));
   // A single set is written unchanged; repeated exposures are their per-pattern mean.
-  EXPECT_EQ(differingPixels(readFolder(out / "pose_01", 6), pose1[0]), 0);
-  EXPECT_EQ(differingPixels(readFolder(out / "pose_00", 6), calib::averageCaptures(pose0)), 0);
-  EXPECT_EQ(differingPixels(readFolder(out / "spheres", 6), calib::averageCaptures(spheres)), 0);
-  EXPECT_GT(differingPixels(readFolder(out / "pose_00", 6), pose0[0]), 0);
+  EXPECT_EQ(differingPixels(readFolder(out / "pose_01"), pose1[0]), 0);
+  EXPECT_EQ(differingPixels(readFolder(out / "pose_00"), calib::averageCaptures(pose0)), 0);
+  EXPECT_EQ(differingPixels(readFolder(out / "spheres"), calib::averageCaptures(spheres)), 0);
+  EXPECT_GT(differingPixels(readFolder(out / "pose_00"), pose0[0]), 0);
   fs::remove_all(folder);
 }
 

@@ -8,6 +8,7 @@
 #include <body_scan_calib/calibration_bag.h>
 #include <body_scan_calib/calibration_capture.h>
 #include <body_scan_calib/calibration_rig.h>
+#include <body_scan_calib/capture_folder.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <body_scan_msgs/Capture.h>
 #include <body_scan_msgs/PatternSet.h>
@@ -97,7 +98,7 @@ std::vector<Placement> placements(const Settings& settings,
   std::vector<Placement> result;
   for (size_t p = 0; p < poses.size(); ++p)
     result.push_back({"pose " + std::to_string(p + 1) + "/" + std::to_string(poses.size()),
-                      calib::poseFolderName(p),
+                      calib::poseFolderName(static_cast<int>(p)),
                       calib::boardSceneYaml(board, poses[p], world_from_camera),
                       "place the board (" + std::to_string(board.inner_cols) + "x" +
                           std::to_string(board.inner_rows) + " inner corners) with its " +
@@ -267,7 +268,7 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
     }
     if (!settings.folder.empty()) {
       const std::string folder = (fs::path(settings.folder) / placement.folder_name).string();
-      calib::writeCaptureFolder(folder, calib::averageCaptures(captures));
+      calib::savePatternFrames(folder, calib::averageCaptures(captures));
       std::cout << "    wrote " << folder << std::endl;
     }
   }

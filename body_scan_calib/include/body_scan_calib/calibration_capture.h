@@ -3,7 +3,7 @@
 // repeated captures of a static target, and the image-folder layout calibrate_pair reads:
 //   FOLDER/pose_NN/frame_MM.png    one folder per reference-plane pose (>= 3)
 //   FOLDER/spheres/frame_MM.png    optional: the five evaluation spheres (sec. 3.4.2)
-// with frames in PatternLayout order. ROS-agnostic.
+// with frames in PatternLayout order (capture_folder.h). ROS-agnostic.
 #pragma once
 
 #include <body_scan_calib/pair_calibration_pipeline.h>
@@ -30,13 +30,9 @@ std::string sphereSceneYaml(const std::vector<Eigen::Vector3d>& centers_in_camer
 // the captures are empty or differ in frame count, size or type.
 std::vector<cv::Mat> averageCaptures(const std::vector<std::vector<cv::Mat>>& captures);
 
-// "pose_03", "frame_07.png": the folder layout above.
-std::string poseFolderName(size_t pose);
-std::string frameFileName(size_t frame);
+// The folder of the evaluation spheres beside the pose_NN folders (capture_folder.h writes
+// and reads the frames: savePatternFrames, loadPatternFrames).
 constexpr const char* kSphereFolderName = "spheres";
-
-// Writes the frames as FOLDER/frame_MM.png (lossless, each file atomically).
-void writeCaptureFolder(const std::string& folder, const std::vector<cv::Mat>& frames);
 
 // Splits captures, in recording order, into the runs of consecutive scan ids (id = previous
 // id + 1): one run per target placement; any other id starts the next placement. Returns the

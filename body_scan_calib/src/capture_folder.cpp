@@ -1,0 +1,68 @@
+#include <body_scan_calib/capture_folder.h>
+#include <body_scan_driver/atomic_file.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
+
+namespace body_scan::calib {
+namespace fs = std::filesystem;
+namespace {
+
+std::string frameName(size_t index) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "frame_%02zu.png", index);
+  return name;
+}
+
+}  // namespace
+
+std::string poseFolderName(int pose) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "pose_%02d", pose);
+  return name;
+}
+
+void savePatternFrames(const std::string& folder, const std::vector<cv::Mat>& frames) {
+  for (size_t f = 0; f < frames.size(); ++f) {
+    std::vector<uchar> png;
+    if (!cv::imencode(".png", frames[f], png))
+      throw std::runtime_error("cannot encode frame " + std::to_string(f) + " for " + folder +
+                               " as PNG: frames must be 8-bit images");
+    writeFileAtomically((fs::path(folder) / frameName(f)).string(),
+                        std::string(png.begin(), png.end()));
+  }
+}
+
+std::vector<cv::Mat> loadPatternFrames(const std::string& folder, const PatternLayout& layout) {
+  std::vector<cv::Mat> frames;
+  for (int f = 0; f < layout.frameCount(); ++f) {
+    const fs::path file = fs::path(folder) / frameName(f);
+    cv::Mat frame = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
+    if (frame.empty())
+      throw std::runtime_error("cannot read " + file.string() + ": a pattern set of " +
+                               std::to_string(layout.bits()) + " bits with inverse frames has " +
+                               std::to_string(layout.frameCount()) +
+                               " frames frame_00.png..; check the folder or --bits");
+    frames.push_back(frame);
+  }
+  return frames;
+}
+
+std::vector<std::vector<cv::Mat>> loadPoseCaptures(const std::string& folder,
+                                                   const PatternLayout& layout) {
+  std::vector<std::vector<cv::Mat>> poses;
+  for (int pose = 0;; ++pose) {
+    const fs::path path = fs::path(folder) / poseFolderName(pose);
+    if (!fs::is_directory(path)) break;
+    poses.push_back(loadPatternFrames(path.string(), layout));
+  }
+  if (poses.empty())
+    throw std::runtime_error("no " + (fs::path(folder) / poseFolderName(0)).string() +
+                             ": the folder needs pose_00, pose_01, ... with the pattern frames "
+                             "frame_00.png.. of each board pose");
+  return poses;
+}
+
+}  // namespace body_scan::calib
