@@ -91,6 +91,10 @@ BagConversionResult bagToCalibrationFolder(
   }
 
   const std::vector<std::vector<size_t>> groups = groupConsecutiveScanIds(scan_ids);
+  const int removed = removeOldCaptures(folder);
+  if (progress && removed > 0)
+    progress("removed " + std::to_string(removed) + " capture folders of an earlier run from " +
+             folder);
   BagConversionResult result;
   result.pattern_sets = scan_ids.size();
   result.bits = bits;
@@ -115,7 +119,8 @@ BagConversionResult bagToCalibrationFolder(
     }
     result.folders.push_back(path);
     if (progress)
-      progress(path + ": scans " + scans + " (" + std::to_string(captures.size()) + " averaged)");
+      progress("wrote " + path + ": scans " + scans + " (" + std::to_string(captures.size()) +
+               " averaged)");
     captures.clear();
     ++group;
   }

@@ -1,6 +1,8 @@
 #include <body_scan_calib/calibration_capture.h>
 
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -95,6 +97,24 @@ std::vector<cv::Mat> averageCaptures(const std::vector<std::vector<cv::Mat>>& ca
   for (size_t f = 0; f < sums.size(); ++f)
     sums[f].convertTo(frames[f], CV_8U, 1.0 / static_cast<double>(captures.size()));
   return frames;
+}
+
+// Removes FOLDER/pose_NN and FOLDER/spheres (only the capture layout's own folders).
+int removeOldCaptures(const std::string& folder) {
+  int removed = 0;
+  std::error_code error;
+  for (const std::filesystem::directory_entry& entry :
+       std::filesystem::directory_iterator(folder, error)) {
+    const std::string name = entry.path().filename().string();
+    const bool pose = name.size() == 7 && name.rfind("pose_", 0) == 0 &&
+                      std::isdigit(static_cast<unsigned char>(name[5])) &&
+                      std::isdigit(static_cast<unsigned char>(name[6]));
+    if (entry.is_directory() && (pose || name == calib::kSphereFolderName)) {
+      std::filesystem::remove_all(entry.path());
+      ++removed;
+    }
+  }
+  return removed;
 }
 
 std::vector<std::vector<size_t>> groupConsecutiveScanIds(const std::vector<uint32_t>& scan_ids) {

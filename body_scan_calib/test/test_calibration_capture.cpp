@@ -160,6 +160,9 @@ TEST(CalibrationBag, ConvertsRunsOfScanIdsToPoseFoldersFrameForFrame) {
   calib::BagConversionOptions options;
   options.spheres_last = true;
   const fs::path out = folder / "images";
+  // An earlier, longer run left pose_07: it must not be read with this run's poses.
+  fs::create_directories(out / "pose_07");
+  fs::create_directories(out / "notes");
   const calib::BagConversionResult result =
       calib::bagToCalibrationFolder(bag_path, out.string(), options);
   EXPECT_EQ(result.pattern_sets, 6u);
@@ -169,6 +172,8 @@ TEST(CalibrationBag, ConvertsRunsOfScanIdsToPoseFoldersFrameForFrame) {
   EXPECT_TRUE(fs::is_directory(out / "pose_01"));
   EXPECT_TRUE(fs::is_directory(out / "spheres"));
   EXPECT_FALSE(fs::exists(out / "pose_02"));
+  EXPECT_FALSE(fs::exists(out / "pose_07"));
+  EXPECT_TRUE(fs::exists(out / "notes"));  // not the capture layout's: left alone
   // A single set is written unchanged; repeated exposures are their per-pattern mean.
   EXPECT_EQ(differingPixels(readFolder(out / "pose_01"), pose1[0]), 0);
   EXPECT_EQ(differingPixels(readFolder(out / "pose_00"), calib::averageCaptures(pose0)), 0);

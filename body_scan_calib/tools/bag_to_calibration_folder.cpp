@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
   try {
     const body_scan::calib::BagConversionResult result = body_scan::calib::bagToCalibrationFolder(
         positional[0], positional[1], options,
-        [](const std::string& line) { std::cout << "  wrote " << line << std::endl; });
+        [](const std::string& line) { std::cout << "  " << line << std::endl; });
     std::cout << result.pattern_sets << " pattern sets -> " << result.folders.size()
               << " folders in " << positional[1] << "; calibrate with:\n  rosrun body_scan_calib "
               << "calibrate_pair --images " << positional[1] << " --bits " << result.bits

@@ -212,6 +212,13 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
       throw std::runtime_error("nobody publishes " + pattern_sub.getTopic() +
                                ": remap pattern_set to the driver's topic");
 
+  // Captures of an earlier run (more poses, spheres) would be read with this run's.
+  if (!settings.folder.empty()) {
+    const int removed = calib::removeOldCaptures(settings.folder);
+    if (removed > 0)
+      std::cout << "removed " << removed << " capture folders of an earlier run from "
+                << settings.folder << std::endl;
+  }
   std::unique_ptr<rosbag::Bag> bag;
   const std::string bag_active = settings.bag + ".active";  // renamed when complete
   if (!settings.bag.empty()) {

@@ -34,6 +34,10 @@ std::vector<cv::Mat> averageCaptures(const std::vector<std::vector<cv::Mat>>& ca
 // and reads the frames: savePatternFrames, loadPatternFrames).
 constexpr const char* kSphereFolderName = "spheres";
 
+// Removes FOLDER/pose_NN and FOLDER/spheres, the layout's own folders, so that an earlier
+// run's captures (more poses, spheres) are not read with a new run's. Returns how many.
+int removeOldCaptures(const std::string& folder);
+
 // Splits captures, in recording order, into the runs of consecutive scan ids (id = previous
 // id + 1): one run per target placement; any other id starts the next placement. Returns the
 // indices of each run.
