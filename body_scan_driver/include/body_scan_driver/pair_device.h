@@ -10,6 +10,7 @@
 #include <memory>
 #include <opencv2/core/mat.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -45,6 +46,13 @@ class PairDevice {
   virtual std::optional<PairCalibration> factoryCalibration() const { return std::nullopt; }
   // The camera's pose in the world if the device knows it (the simulator does).
   virtual std::optional<Eigen::Isometry3d> factoryPose() const { return std::nullopt; }
+  // Replaces the scene in front of the pair (scene file text). Only a simulated pair has a
+  // scene to replace: the others throw std::runtime_error saying so.
+  virtual void replaceScene(const std::string& /*scene_yaml*/) {
+    throw std::runtime_error(
+        "this pair captures the real world: its scene cannot be set; place the target by hand "
+        "(or use backend:=sim)");
+  }
   // Called periodically by the driver: hardware reconnects here. Must not throw.
   virtual void poll() {}
   // Thread-safe: may be called while capture() runs. Not pure, so that devices written before

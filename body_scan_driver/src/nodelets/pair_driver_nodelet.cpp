@@ -8,6 +8,7 @@
 #include <body_scan_driver/ros/conversions.h>
 #include <body_scan_msgs/Capture.h>
 #include <body_scan_msgs/PatternSet.h>
+#include <body_scan_msgs/SetScene.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <dynamic_reconfigure/server.h>
 #include <geometry_msgs/TransformStamped.h>
@@ -40,6 +41,27 @@ class PairDriverNodelet : public nodelet::Nodelet {
     info_pub_ = nh.advertise<sensor_msgs::CameraInfo>("camera_info", 2);
     capture_srv_ = pnh.advertiseService("capture", &PairDriverNodelet::onCapture, this);
     trigger_sub_ = nh.subscribe("scan_trigger", 4, &PairDriverNodelet::onTrigger, this);
+    // Simulator only: replace the scene (e.g. to place a calibration target); a bad scene or a
+    // real pair is an error reply and the current scene stays.
+    set_scene_srv_ =
+        pnh.advertiseService<body_scan_msgs::SetScene::Request, body_scan_msgs::SetScene::Response>(
+            "set_scene", [this](auto& request, auto& response) {
+              std::lock_guard<std::mutex> lock(capture_mutex_);
+              response.success = false;
+              try {
+                if (!device_)
+                  throw std::runtime_error(device_error_.empty()
+                                               ? "the pair is still starting; call again"
+                                               : "pair not available: " + device_error_);
+                device_->replaceScene(request.scene_yaml);
+                response.success = true;
+                response.message = "scene replaced";
+              } catch (const std::exception& e) {
+                response.message = std::string("set_scene failed: ") + e.what();
+                NODELET_ERROR("[%s] %s", pair_id_.c_str(), response.message.c_str());
+              }
+              return true;
+            });
 
     diagnostics_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
     diagnostics_->setHardwareID("none");
@@ -249,7 +271,7 @@ class PairDriverNodelet : public nodelet::Nodelet {
   uint32_t last_scan_id_ = 0;
   std::mutex capture_mutex_;
   ros::Publisher pattern_pub_, image_pub_, info_pub_;
-  ros::ServiceServer capture_srv_;
+  ros::ServiceServer capture_srv_, set_scene_srv_;
   ros::Subscriber trigger_sub_;
   ros::Timer timer_;
   tf2_ros::StaticTransformBroadcaster tf_broadcaster_;

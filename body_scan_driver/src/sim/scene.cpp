@@ -308,14 +308,16 @@ void addObject(const YAML::Node& object, const std::string& where, Scene& scene)
 
 }  // namespace
 
-Scene loadScene(const std::string& path) {
-  const YAML::Node root = loadYamlFile(path, "scene");
+namespace {
+
+// `source` names the text in errors ("scene file 'x.yaml'"), `prefix` starts each object's.
+Scene sceneFromYaml(const YAML::Node& root, const std::string& source, const std::string& prefix) {
   if (!root["objects"] || !root["objects"].IsSequence())
-    throw std::runtime_error("scene file '" + path + "' needs a list 'objects:'");
+    throw std::runtime_error(source + " needs a list 'objects:'");
   Scene scene;
   int index = 0;
   for (const YAML::Node& object : root["objects"]) {
-    const std::string where = path + ": objects[" + std::to_string(index++) + "]";
+    const std::string where = prefix + ": objects[" + std::to_string(index++) + "]";
     try {
       addObject(object, where, scene);
     } catch (const YAML::Exception& e) {
@@ -323,6 +325,23 @@ Scene loadScene(const std::string& path) {
     }
   }
   return scene;
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& path) {
+  return sceneFromYaml(loadYamlFile(path, "scene"), "scene file '" + path + "'", path);
+}
+
+Scene parseScene(const std::string& yaml_text) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(std::string("cannot parse the scene text: ") + e.what() +
+                             " (check the YAML syntax)");
+  }
+  return sceneFromYaml(root, "the scene text", "scene text");
 }
 
 }  // namespace body_scan::sim

@@ -20,6 +20,11 @@ class SimulatedPairDevice : public PairDevice {
   std::optional<Eigen::Isometry3d> factoryPose() const override {
     return pair_.config().world_from_camera;
   }
+  void replaceScene(const std::string& scene_yaml) override {
+    // Parse first: a bad scene leaves the current one in place.
+    auto scene = std::make_shared<sim::Scene>(sim::parseScene(scene_yaml));
+    pair_ = sim::VirtualPair(pair_.config(), std::move(scene));
+  }
   DeviceStatus status() const override {
     DeviceStatus status;
     status.hardware_id = "simulator " + pair_.config().pair_id;

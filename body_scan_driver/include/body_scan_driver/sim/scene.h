@@ -164,5 +164,7 @@ class Scene {
 // Loads a scene from YAML (see config/scenes/*.yaml for the format). Throws
 // std::runtime_error naming the file, the object and the fix on bad input.
 Scene loadScene(const std::string& path);
+// The same from the text of a scene file (e.g. received by the driver's ~set_scene service).
+Scene parseScene(const std::string& yaml_text);
 
 }  // namespace body_scan::sim

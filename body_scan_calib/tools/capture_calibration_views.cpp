@@ -1,0 +1,310 @@
+// Captures the views calibrate_pair needs through a running PairDriver (issue 3 item 7): for
+// each reference-plane pose of the rig (calibration_rig.h) the board is placed - by the
+// simulator's ~set_scene service or by the operator, who presses Enter - and the pair captures
+// it `exposures` times (averaged: a static target); then the five evaluation spheres. Writes
+// FOLDER/pose_NN/frame_MM.png and FOLDER/spheres (calibrate_pair --images) and/or records the
+// raw PatternSets into a bag (bag_to_calibration_folder); optionally runs calibrate_pair on the
+// folder. Exits when done (0 = success).
+#include <body_scan_calib/calibration_bag.h>
+#include <body_scan_calib/calibration_capture.h>
+#include <body_scan_calib/calibration_rig.h>
+#include <body_scan_calib/capture_folder.h>
+#include <body_scan_driver/sim/virtual_pair.h>
+#include <body_scan_msgs/Capture.h>
+#include <body_scan_msgs/PatternSet.h>
+#include <body_scan_msgs/SetScene.h>
+#include <ros/ros.h>
+#include <rosbag/bag.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <condition_variable>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <mutex>
+
+using namespace body_scan;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Settings {
+  std::string folder, bag, targets, driver, pair_file;
+  int exposures = 16, pose_count = 0;
+  bool spheres = true, calibrate = false;
+  double capture_timeout = 30.0;
+  std::string calibrate_pair, calibration_file, report_file, plot_file;
+};
+
+// One placement of a target: a scene for the simulator, words for the operator.
+struct Placement {
+  std::string name;  // "pose 3/11", "spheres"
+  std::string folder_name;
+  std::string scene_yaml;
+  std::string instructions;
+};
+
+// Scan ids: placement p uses 1000 (p + 1) + exposure, so each placement is one run of
+// consecutive ids and bag_to_calibration_folder recovers the placements from a bag.
+constexpr uint32_t kScanIdsPerPlacement = 1000;
+
+class PatternSetWaiter {
+ public:
+  void onPatternSet(const body_scan_msgs::PatternSet::ConstPtr& set) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    received_[set->scan_id] = set;
+    arrived_.notify_all();
+  }
+  body_scan_msgs::PatternSet::ConstPtr waitFor(uint32_t scan_id, double timeout_s) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const bool arrived = arrived_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] {
+      return received_.count(scan_id) > 0 || !ros::ok();
+    });
+    if (!arrived || !received_.count(scan_id)) return nullptr;
+    auto set = received_[scan_id];
+    received_.clear();
+    return set;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable arrived_;
+  std::map<uint32_t, body_scan_msgs::PatternSet::ConstPtr> received_;
+};
+
+std::string describeBoardPose(const Eigen::Isometry3d& pose) {
+  const Eigen::Vector3d normal = pose.linear().col(2);
+  const double tilt_deg = std::acos(std::min(1.0, std::abs(normal.z()))) * 180 / M_PI;
+  // Camera optical frame: x right, y down, z forward.
+  const Eigen::Vector3d& c = pose.translation();
+  char text[200];
+  std::snprintf(text, sizeof(text),
+                "centre %.0f mm %s, %.0f mm %s, %.0f mm in front of the camera, tilted "
+                "%.0f deg from facing it",
+                std::abs(c.x()) * 1e3, c.x() < 0 ? "left" : "right", std::abs(c.y()) * 1e3,
+                c.y() < 0 ? "up" : "down", c.z() * 1e3, tilt_deg);
+  return text;
+}
+
+std::vector<Placement> placements(const Settings& settings,
+                                  const Eigen::Isometry3d& world_from_camera) {
+  const calib::ReferenceBoard board;  // calibrate_pair's board (PairCalibrationOptions)
+  std::vector<Eigen::Isometry3d> poses = calib::rig::defaultBoardPoses();
+  if (settings.pose_count > 0 && settings.pose_count < static_cast<int>(poses.size()))
+    poses.resize(settings.pose_count);
+  std::vector<Placement> result;
+  for (size_t p = 0; p < poses.size(); ++p)
+    result.push_back({"pose " + std::to_string(p + 1) + "/" + std::to_string(poses.size()),
+                      calib::poseFolderName(static_cast<int>(p)),
+                      calib::boardSceneYaml(board, poses[p], world_from_camera),
+                      "place the board (" + std::to_string(board.inner_cols) + "x" +
+                          std::to_string(board.inner_rows) + " inner corners) with its " +
+                          describeBoardPose(poses[p])});
+  if (settings.spheres) {
+    const auto centers = calib::rig::defaultSphereCenters();
+    result.push_back({"spheres", calib::kSphereFolderName,
+                      calib::sphereSceneYaml(centers, 0.025, world_from_camera),
+                      "remove the board; place the five 25 mm spheres about 1 m in front of the "
+                      "pair, one in the centre and one toward each image corner (Fig 3.7)"});
+  }
+  return result;
+}
+
+// calibrate_pair is installed next to this node (devel and install space alike).
+std::string siblingCalibratePair() {
+  std::error_code error;
+  const fs::path self = fs::read_symlink("/proc/self/exe", error);
+  return error ? "calibrate_pair" : (self.parent_path() / "calibrate_pair").string();
+}
+
+int runCalibratePair(const Settings& settings, int bits) {
+  std::vector<std::string> arguments = {settings.calibrate_pair,
+                                        "--images",
+                                        settings.folder,
+                                        "--bits",
+                                        std::to_string(bits),
+                                        "--exposures",
+                                        std::to_string(settings.exposures),
+                                        "--output",
+                                        settings.calibration_file,
+                                        "--report",
+                                        settings.report_file,
+                                        "--plot",
+                                        settings.plot_file};
+  std::string line;
+  for (const std::string& argument : arguments) line += argument + " ";
+  ROS_INFO("running %s", line.c_str());
+  std::vector<char*> argv;
+  for (std::string& argument : arguments) argv.push_back(argument.data());
+  argv.push_back(nullptr);
+  const pid_t child = fork();
+  if (child == 0) {
+    execvp(argv[0], argv.data());
+    std::perror(("cannot run " + settings.calibrate_pair).c_str());
+    _exit(127);
+  }
+  if (child < 0) return -1;
+  int status = 0;
+  waitpid(child, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
+  Settings settings;
+  pnh.param<std::string>("folder", settings.folder, "");
+  pnh.param<std::string>("bag", settings.bag, "");
+  pnh.param<std::string>("targets", settings.targets, "sim");
+  pnh.param<std::string>("driver", settings.driver, "driver");
+  pnh.param("exposures", settings.exposures, 16);
+  pnh.param("pose_count", settings.pose_count, 0);
+  pnh.param("spheres", settings.spheres, true);
+  pnh.param("capture_timeout", settings.capture_timeout, 30.0);
+  pnh.param("calibrate", settings.calibrate, false);
+  pnh.param<std::string>("calibrate_pair", settings.calibrate_pair, siblingCalibratePair());
+  pnh.param<std::string>("calibration_file", settings.calibration_file, "");
+  pnh.param<std::string>("report_file", settings.report_file, "");
+  pnh.param<std::string>("plot_file", settings.plot_file, "");
+  // The simulator's scenes are in the world: the pair's pose comes from the driver's pair file.
+  if (!pnh.getParam("pair_file", settings.pair_file))
+    nh.param<std::string>(settings.driver + "/pair_file", settings.pair_file, "");
+
+  if (settings.folder.empty() && settings.bag.empty())
+    throw std::invalid_argument("set ~folder (image folder) and/or ~bag (record the sets)");
+  if (settings.targets != "sim" && settings.targets != "operator")
+    throw std::invalid_argument("~targets must be 'sim' (placed through " + settings.driver +
+                                "/set_scene) or 'operator' (placed by hand), not '" +
+                                settings.targets + "'");
+  if (settings.exposures < 1 || settings.exposures >= static_cast<int>(kScanIdsPerPlacement))
+    throw std::invalid_argument("~exposures must be in 1..999");
+  if (settings.calibrate && (settings.folder.empty() || settings.calibration_file.empty() ||
+                             settings.report_file.empty() || settings.plot_file.empty()))
+    throw std::invalid_argument(
+        "~calibrate needs ~folder, ~calibration_file, ~report_file and ~plot_file");
+
+  Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();
+  if (settings.targets == "sim")
+    world_from_camera =
+        (settings.pair_file.empty() ? sim::VirtualPairConfig{}
+                                    : sim::loadVirtualPairConfig(settings.pair_file))
+            .world_from_camera;
+  const std::vector<Placement> plan = placements(settings, world_from_camera);
+
+  PatternSetWaiter waiter;
+  ros::Subscriber pattern_sub =
+      nh.subscribe("pattern_set", 4, &PatternSetWaiter::onPatternSet, &waiter);
+  ros::ServiceClient capture_client =
+      nh.serviceClient<body_scan_msgs::Capture>(settings.driver + "/capture");
+  ros::ServiceClient scene_client =
+      nh.serviceClient<body_scan_msgs::SetScene>(settings.driver + "/set_scene");
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  ROS_INFO("waiting for %s and a publisher on %s", capture_client.getService().c_str(),
+           pattern_sub.getTopic().c_str());
+  if (!capture_client.waitForExistence(ros::Duration(settings.capture_timeout)))
+    throw std::runtime_error("no service " + capture_client.getService() +
+                             ": start the PairDriver (or set ~driver to its node name)");
+  for (ros::WallTime end = ros::WallTime::now() + ros::WallDuration(settings.capture_timeout);
+       pattern_sub.getNumPublishers() == 0; ros::WallDuration(0.05).sleep())
+    if (ros::WallTime::now() > end || !ros::ok())
+      throw std::runtime_error("nobody publishes " + pattern_sub.getTopic() +
+                               ": remap pattern_set to the driver's topic");
+
+  // Captures of an earlier run (more poses, spheres) would be read with this run's.
+  if (!settings.folder.empty()) {
+    const int removed = calib::removeOldCaptures(settings.folder);
+    if (removed > 0)
+      std::cout << "removed " << removed << " capture folders of an earlier run from "
+                << settings.folder << std::endl;
+  }
+  std::unique_ptr<rosbag::Bag> bag;
+  const std::string bag_active = settings.bag + ".active";  // renamed when complete
+  if (!settings.bag.empty()) {
+    if (fs::path(settings.bag).has_parent_path())
+      fs::create_directories(fs::path(settings.bag).parent_path());
+    bag = std::make_unique<rosbag::Bag>(bag_active, rosbag::bagmode::Write);
+  }
+
+  int bits = 0;
+  for (size_t p = 0; p < plan.size(); ++p) {
+    const Placement& placement = plan[p];
+    if (settings.targets == "sim") {
+      body_scan_msgs::SetScene set_scene;
+      set_scene.request.scene_yaml = placement.scene_yaml;
+      // The driver advertises its services before its pair is open: retry while it starts.
+      const ros::WallTime give_up =
+          ros::WallTime::now() + ros::WallDuration(settings.capture_timeout);
+      while (scene_client.call(set_scene) && !set_scene.response.success &&
+             set_scene.response.message.find("still starting") != std::string::npos &&
+             ros::WallTime::now() < give_up)
+        ros::WallDuration(0.1).sleep();
+      if (!set_scene.response.success)
+        throw std::runtime_error("cannot place the " + placement.name + " target: " +
+                                 (set_scene.response.message.empty()
+                                      ? "no service " + scene_client.getService()
+                                      : set_scene.response.message));
+      std::cout << "[" << p + 1 << "/" << plan.size() << "] " << placement.name
+                << ": target placed, capturing " << settings.exposures << " exposure(s)"
+                << std::endl;
+    } else {
+      std::cout << "[" << p + 1 << "/" << plan.size() << "] " << placement.name << ": "
+                << placement.instructions << ", then press Enter" << std::endl;
+      std::string line;
+      if (!std::getline(std::cin, line))
+        throw std::runtime_error("no operator input (stdin closed): run with rosrun in a terminal");
+    }
+    std::vector<std::vector<cv::Mat>> captures;
+    for (int exposure = 0; exposure < settings.exposures; ++exposure) {
+      body_scan_msgs::Capture capture;
+      capture.request.scan_id = kScanIdsPerPlacement * static_cast<uint32_t>(p + 1) + exposure;
+      if (!capture_client.call(capture) || !capture.response.success)
+        throw std::runtime_error(
+            placement.name + ": capture failed: " +
+            (capture.response.message.empty() ? "service call failed" : capture.response.message));
+      const auto set = waiter.waitFor(capture.response.scan_id, settings.capture_timeout);
+      if (!set)
+        throw std::runtime_error(placement.name + ": pattern set of scan " +
+                                 std::to_string(capture.response.scan_id) + " not received on " +
+                                 pattern_sub.getTopic() + " within " +
+                                 std::to_string(settings.capture_timeout) + " s");
+      bits = set->bits;
+      if (bag) bag->write(pattern_sub.getTopic(), ros::Time::now(), *set);
+      if (!settings.folder.empty()) captures.push_back(calib::patternFrames(*set));
+    }
+    if (!settings.folder.empty()) {
+      const std::string folder = (fs::path(settings.folder) / placement.folder_name).string();
+      calib::savePatternFrames(folder, calib::averageCaptures(captures));
+      std::cout << "    wrote " << folder << std::endl;
+    }
+  }
+  if (bag) {
+    bag->close();
+    fs::rename(bag_active, settings.bag);
+    std::cout << "recorded " << plan.size() * settings.exposures << " pattern sets into "
+              << settings.bag << " (bag_to_calibration_folder " << settings.bag << " FOLDER"
+              << (settings.spheres ? " --spheres-last" : "") << ")" << std::endl;
+  }
+  if (!settings.calibrate) return 0;
+  std::cout << "calibrating from " << settings.folder << std::endl;
+  const int status = runCalibratePair(settings, bits);
+  if (status != 0)
+    throw std::runtime_error("calibrate_pair failed (exit status " + std::to_string(status) +
+                             "); its error is printed above");
+  std::cout << "calibration written to " << settings.calibration_file << std::endl;
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "capture_calibration_views");
+  ros::NodeHandle nh, pnh("~");
+  try {
+    return run(nh, pnh);
+  } catch (const std::exception& e) {
+    ROS_ERROR("capture_calibration_views: %s", e.what());
+    return 1;
+  }
+}
