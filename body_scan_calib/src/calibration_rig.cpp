@@ -33,7 +33,7 @@ std::vector<Eigen::Isometry3d> defaultBoardPoses() {
           boardPose(0.0, 0.02, 0.88, -20, -15, -20)};
 }
 
-std::shared_ptr<sim::Scene> boardScene(const ReferenceBoard& board,
+std::shared_ptr<sim::Scene> boardScene(const Checkerboard& board,
                                        const Eigen::Isometry3d& board_center_in_camera,
                                        const Eigen::Isometry3d& world_from_camera) {
   const Eigen::Isometry3d world_from_board = world_from_camera * board_center_in_camera;
@@ -42,13 +42,13 @@ std::shared_ptr<sim::Scene> boardScene(const ReferenceBoard& board,
   scene->add(std::make_unique<sim::CheckerboardPlane>(
       world_from_board.translation(), -world_from_board.linear().col(2),
       world_from_board.linear().col(0), board.inner_cols + 1, board.inner_rows + 1,
-      board.square_size, board.light_albedo, board.dark_albedo));
+      board.square_size, kBoardLightAlbedo, kBoardDarkAlbedo));
   // The board is mounted on a larger white panel 3 mm behind it: the light border a checker
   // detector needs (the board's own pixels are the only ones the calibration lifts).
   const double panel_half_extent = 0.5 * (board.inner_cols + 1) * board.square_size + 0.1;
   scene->add(std::make_unique<sim::Plane>(
       world_from_board * Eigen::Vector3d(0, 0, 0.003), -world_from_board.linear().col(2),
-      sim::Material{board.light_albedo, {0.9, 0.9, 0.9}}, panel_half_extent));
+      sim::Material{kBoardLightAlbedo, {0.9, 0.9, 0.9}}, panel_half_extent));
   return scene;
 }
 

@@ -82,7 +82,7 @@ TEST(PairCalibration, StripePlanesMatchTheSimulatorsTruePlanes) {
   EXPECT_LT(worst_angle, 0.1);
   EXPECT_LT(worst_offset, 0.0005);
   EXPECT_FALSE(c.outcome.refinement_summary.empty());
-  // Camera (OpenCV stand-in) close to the truth: focal length within 1%.
+  // Camera (our Zhang + ML calibration) close to the truth: focal length within 1%.
   EXPECT_NEAR(c.outcome.calibration.camera.alpha / c.config.camera.alpha, 1.0, 0.01);
   EXPECT_LT(c.outcome.camera.rms_px, 0.3);
 }
@@ -108,7 +108,7 @@ TEST(PairCalibration, StripesSeenOnFewerThanThreePosesAreNaNAndReported) {
     StripeDecoder(PatternLayout(8, true)).decode(c.pose_frames[pose], stripes);
     three.push_back({c.outcome.camera.board_to_camera[pose], stripes.coordinate.clone(),
                      boardRegion(c.outcome.camera.camera, c.outcome.camera.board_to_camera[pose],
-                                 ReferenceBoard{})});
+                                 referenceBoard())});
   }
   const ProjectorCalibrationResult from_three =
       calibrateStripePlanes(c.outcome.camera.camera, three);

@@ -91,7 +91,7 @@ std::string describeBoardPose(const Eigen::Isometry3d& pose) {
 
 std::vector<Placement> placements(const Settings& settings,
                                   const Eigen::Isometry3d& world_from_camera) {
-  const calib::ReferenceBoard board;  // calibrate_pair's board (PairCalibrationOptions)
+  const calib::Checkerboard board = calib::referenceBoard();  // calibrate_pair's board
   std::vector<Eigen::Isometry3d> poses = calib::rig::defaultBoardPoses();
   if (settings.pose_count > 0 && settings.pose_count < static_cast<int>(poses.size()))
     poses.resize(settings.pose_count);

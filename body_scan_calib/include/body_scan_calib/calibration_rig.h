@@ -19,10 +19,14 @@ namespace body_scan::calib::rig {
 // poses, tilted for a well-conditioned camera calibration, the whole board inside the image.
 std::vector<Eigen::Isometry3d> defaultBoardPoses();
 
+// How the reference board (pair_calibration_pipeline.h referenceBoard()) is printed: light and
+// dark squares' albedos; the panel it is mounted on is as white as its light squares.
+constexpr double kBoardLightAlbedo = 0.85, kBoardDarkAlbedo = 0.3;
+
 // A scene with the printed board at `board_center_in_camera` (board x along the pose's x, the
 // board facing the camera), mounted on a larger white panel (the light border a checker detector
 // needs around the board).
-std::shared_ptr<sim::Scene> boardScene(const ReferenceBoard& board,
+std::shared_ptr<sim::Scene> boardScene(const Checkerboard& board,
                                        const Eigen::Isometry3d& board_center_in_camera,
                                        const Eigen::Isometry3d& world_from_camera);
 
