@@ -133,6 +133,8 @@ TEST(CalibrateLaunch, WritesACalibrationWhosePlanesMatchTheTruePlanes) {
   EXPECT_LT(worst_angle, 0.2);
   EXPECT_LT(worst_offset, 0.001);
   EXPECT_NEAR(estimated.camera.alpha / truth.camera.alpha, 1.0, 0.01);
+  // Named after the launch's pair, not the offline default "pair".
+  EXPECT_EQ(estimated.pair_id, "pole_a/pair_1");
 }
 
 // The launch also recorded the raw pattern sets: converted offline, they give the very folder
