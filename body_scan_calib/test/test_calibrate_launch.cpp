@@ -45,18 +45,6 @@ bool waitForFiles(const std::vector<std::string>& files, fs::file_time_type star
   return false;
 }
 
-// The driver answers "still starting" until its pair is open (or failed to open).
-bool callOnceStarted(ros::ServiceClient& client, body_scan_msgs::SetScene& call) {
-  const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(20);
-  while (client.call(call)) {
-    if (call.response.message.find("still starting") == std::string::npos ||
-        ros::WallTime::now() > give_up)
-      return true;
-    ros::WallDuration(0.1).sleep();
-  }
-  return false;
-}
-
 double angleDeg(const Eigen::Vector4d& a, const Eigen::Vector4d& b) {
   return std::acos(std::min(1.0, a.head<3>().normalized().dot(b.head<3>().normalized()))) * 180 /
          M_PI;
@@ -70,7 +58,7 @@ TEST(SetScene, RefusesBadScenesAndTheDriverKeepsServing) {
   ASSERT_TRUE(client.waitForExistence(ros::Duration(20)));
   body_scan_msgs::SetScene bad_yaml;
   bad_yaml.request.scene_yaml = "objects: [ {type: sphere";
-  ASSERT_TRUE(callOnceStarted(client, bad_yaml));
+  ASSERT_TRUE(client.call(bad_yaml));
   EXPECT_FALSE(bad_yaml.response.success);
   EXPECT_NE(bad_yaml.response.message.find("YAML"), std::string::npos) << bad_yaml.response.message;
   body_scan_msgs::SetScene bad_object;
@@ -85,7 +73,7 @@ TEST(SetScene, RefusesBadScenesAndTheDriverKeepsServing) {
   ASSERT_TRUE(usb.waitForExistence(ros::Duration(20)));
   body_scan_msgs::SetScene on_usb;
   on_usb.request.scene_yaml = "objects: []\n";
-  ASSERT_TRUE(callOnceStarted(usb, on_usb));
+  ASSERT_TRUE(usb.call(on_usb));
   EXPECT_FALSE(on_usb.response.success);
   EXPECT_NE(on_usb.response.message.find("place the target by hand"), std::string::npos)
       << on_usb.response.message;

@@ -210,6 +210,10 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   if (!capture_client.waitForExistence(ros::Duration(settings.capture_timeout)))
     throw std::runtime_error("no service " + capture_client.getService() +
                              ": start the PairDriver (or set ~driver to its node name)");
+  if (settings.targets == "sim" &&
+      !scene_client.waitForExistence(ros::Duration(settings.capture_timeout)))
+    throw std::runtime_error("no service " + scene_client.getService() +
+                             ": the driver must be the simulator (backend:=sim)");
   for (ros::WallTime end = ros::WallTime::now() + ros::WallDuration(settings.capture_timeout);
        pattern_sub.getNumPublishers() == 0; ros::WallDuration(0.05).sleep())
     if (ros::WallTime::now() > end || !ros::ok())
@@ -238,14 +242,8 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
     if (settings.targets == "sim") {
       body_scan_msgs::SetScene set_scene;
       set_scene.request.scene_yaml = placement.scene_yaml;
-      // The driver advertises its services before its pair is open: retry while it starts.
-      const ros::WallTime give_up =
-          ros::WallTime::now() + ros::WallDuration(settings.capture_timeout);
-      while (scene_client.call(set_scene) && !set_scene.response.success &&
-             set_scene.response.message.find("still starting") != std::string::npos &&
-             ros::WallTime::now() < give_up)
-        ros::WallDuration(0.1).sleep();
-      if (!set_scene.response.success)
+      // The driver opens its pair before it advertises ~set_scene: one call is the answer.
+      if (!scene_client.call(set_scene) || !set_scene.response.success)
         throw std::runtime_error("cannot place the " + placement.name + " target: " +
                                  (set_scene.response.message.empty()
                                       ? "no service " + scene_client.getService()
