@@ -25,12 +25,20 @@ Eigen::Isometry3d boardPose(double x, double y, double z, double tilt_x_deg, dou
 }  // namespace
 
 std::vector<Eigen::Isometry3d> defaultBoardPoses() {
-  return {boardPose(0.0, -0.02, 1.00, 15, 10, 20),   boardPose(0.0, 0.02, 1.00, -15, -10, -20),
+  return {boardPose(0.0, -0.02, 1.00, 15, 10, 20), boardPose(0.0, 0.02, 1.00, -15, -10, -20),
           boardPose(0.03, -0.12, 1.25, 10, -15, 20), boardPose(-0.03, 0.10, 1.20, -10, 15, -20),
-          boardPose(0.0, 0.0, 1.10, 0, 25, 20),      boardPose(0.0, -0.20, 1.45, 10, 0, -20),
-          boardPose(0.0, 0.18, 1.45, -10, 5, 20),    boardPose(0.05, -0.05, 1.30, 20, 0, -15),
+          boardPose(0.0, 0.0, 1.10, 0, 25, 20), boardPose(0.0, -0.20, 1.45, 10, 0, -20),
+          boardPose(0.0, 0.18, 1.45, -10, 5, 20), boardPose(0.05, -0.05, 1.30, 20, 0, -15),
           boardPose(-0.05, 0.05, 0.97, -5, -20, 15), boardPose(0.0, 0.0, 0.85, -25, 10, 15),
-          boardPose(0.0, 0.02, 0.88, -20, -15, -20)};
+          boardPose(0.0, 0.02, 0.88, -20, -15, -20),
+          // Bottom image rows see stripes > 229 only nearer than ~0.95 m: the two boards at
+          // 0.8 m give them 3 poses (calibrated range 55-229 -> 53-249), so the calibration
+          // cylinder's bottom grid points (0.8-1 m away, where a pole's upper and lower pairs
+          // overlap) triangulate with the estimated calibration; the three boards up at
+          // 1.05-1.15 m add the top rows' stripes at that range.
+          boardPose(0.0, -0.05, 1.05, -20, 5, 10), boardPose(0.02, -0.05, 1.10, 20, -5, -10),
+          boardPose(0.0, 0.02, 0.80, 15, 10, 10), boardPose(0.0, 0.02, 0.80, -15, -10, -10),
+          boardPose(0.0, -0.06, 1.15, 0, 15, 12)};
 }
 
 std::shared_ptr<sim::Scene> boardScene(const Checkerboard& board,

@@ -4,6 +4,7 @@
 // refuse bad scenes with a clear message while the driver keeps serving.
 #include <body_scan_calib/calibration_bag.h>
 #include <body_scan_calib/calibration_capture.h>
+#include <body_scan_calib/calibration_rig.h>
 #include <body_scan_calib/capture_folder.h>
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/sim/virtual_pair.h>
@@ -135,7 +136,8 @@ TEST(CalibrateLaunch, RecordedBagConvertsToTheCapturedFolder) {
   fs::remove_all(converted);
   const calib::BagConversionResult result =
       calib::bagToCalibrationFolder(bag, converted.string(), {});
-  ASSERT_EQ(result.folders.size(), 11u);  // the rig's poses, no spheres in this test
+  const size_t poses = calib::rig::defaultBoardPoses().size();
+  ASSERT_EQ(result.folders.size(), poses);  // the rig's poses, no spheres in this test
   int compared = 0, differing = 0;
   const PatternLayout layout(8, true);
   for (int pose = 0; pose < static_cast<int>(result.folders.size()); ++pose) {
@@ -149,7 +151,7 @@ TEST(CalibrateLaunch, RecordedBagConvertsToTheCapturedFolder) {
       differing += cv::countNonZero(live[f] != offline[f]);
     }
   }
-  EXPECT_EQ(compared, 11 * 18);
+  EXPECT_EQ(compared, static_cast<int>(poses) * 18);
   EXPECT_EQ(differing, 0);
 }
 

@@ -15,8 +15,9 @@
 
 namespace body_scan::calib::rig {
 
-// Poses (board centre, camera frame) that together see every stripe a 1 m scene needs on >= 3
-// poses, tilted for a well-conditioned camera calibration, the whole board inside the image.
+// Poses (board centre, camera frame) that together see every stripe a 0.8-1.2 m scene needs on
+// >= 3 poses (stripes 53-249 of the default pair: the spheres, the body, the calibration
+// cylinder), tilted for a well-conditioned camera calibration, the whole board inside the image.
 std::vector<Eigen::Isometry3d> defaultBoardPoses();
 
 // How the reference board (pair_calibration_pipeline.h referenceBoard()) is printed: light and
