@@ -285,6 +285,11 @@ std::string accuracyReportYaml(const PairCalibrationOutcome& outcome,
       << rounded(camera.u0, 1e-3) << rounded(camera.v0, 1e-3) << YAML::EndSeq;
   out << YAML::Key << "k1_k2" << YAML::Value << YAML::Flow << YAML::BeginSeq
       << rounded(camera.k1, 1e-6) << rounded(camera.k2, 1e-6) << YAML::EndSeq;
+  // From the camera calibration alone ((J^T J)^-1 s^2), before the joint refinement.
+  out << YAML::Key << "std_dev_alpha_beta_gamma_u0_v0_k1_k2" << YAML::Value << YAML::Flow
+      << YAML::BeginSeq;
+  for (int i = 0; i < 7; ++i) out << outcome.camera.std_devs[i];
+  out << YAML::EndSeq;
   out << YAML::EndMap;
   out << YAML::Key << "projector" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "stripes" << YAML::Value << outcome.planes.projector.stripeCount();

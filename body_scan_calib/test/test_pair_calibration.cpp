@@ -86,6 +86,12 @@ TEST(PairCalibration, StripePlanesMatchTheSimulatorsTruePlanes) {
   // Camera (our Zhang + ML calibration) close to the truth: focal length within 1%.
   EXPECT_NEAR(c.outcome.calibration.camera.alpha / c.config.camera.alpha, 1.0, 0.01);
   EXPECT_LT(c.outcome.camera.rms_px, 0.3);
+  // The reported standard deviations (camera calibration) cover the true focal length and
+  // principal point.
+  const Eigen::Matrix<double, 7, 1>& std_devs = c.outcome.camera.std_devs;
+  EXPECT_NEAR(c.outcome.calibration.camera.alpha, c.config.camera.alpha, 5 * std_devs[0]);
+  EXPECT_NEAR(c.outcome.calibration.camera.u0, c.config.camera.u0, 5 * std_devs[3]);
+  EXPECT_NEAR(c.outcome.calibration.camera.v0, c.config.camera.v0, 5 * std_devs[4]);
 }
 
 TEST(PairCalibration, StripesSeenOnFewerThanThreePosesAreNaNAndReported) {
