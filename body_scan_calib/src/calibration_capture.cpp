@@ -1,4 +1,5 @@
 #include <body_scan_calib/calibration_capture.h>
+#include <body_scan_calib/calibration_rig.h>
 
 #include <cctype>
 #include <cstdio>
@@ -26,7 +27,7 @@ std::string yamlNumber(double value) {
 
 }  // namespace
 
-std::string boardSceneYaml(const ReferenceBoard& board,
+std::string boardSceneYaml(const Checkerboard& board,
                            const Eigen::Isometry3d& board_center_in_camera,
                            const Eigen::Isometry3d& world_from_camera) {
   // Mirrors rig::boardScene (test_calibration_capture renders both and compares every pixel):
@@ -45,13 +46,13 @@ std::string boardSceneYaml(const ReferenceBoard& board,
        << "    cols: " << board.inner_cols + 1 << "\n"
        << "    rows: " << board.inner_rows + 1 << "\n"
        << "    square_size: " << yamlNumber(board.square_size) << "\n"
-       << "    light_albedo: " << yamlNumber(board.light_albedo) << "\n"
-       << "    dark_albedo: " << yamlNumber(board.dark_albedo) << "\n"
+       << "    light_albedo: " << yamlNumber(rig::kBoardLightAlbedo) << "\n"
+       << "    dark_albedo: " << yamlNumber(rig::kBoardDarkAlbedo) << "\n"
        << "  - type: plane\n"
        << "    name: board_panel\n"
        << "    point: " << yamlVector(world_from_board * Eigen::Vector3d(0, 0, 0.003)) << "\n"
        << "    normal: " << yamlVector(normal) << "\n"
-       << "    albedo: " << yamlNumber(board.light_albedo) << "\n"
+       << "    albedo: " << yamlNumber(rig::kBoardLightAlbedo) << "\n"
        << "    color: [0.9, 0.9, 0.9]\n"
        << "    half_extent: " << yamlNumber(panel_half_extent) << "\n";
   return yaml.str();

@@ -25,15 +25,23 @@ Eigen::Isometry3d boardPose(double x, double y, double z, double tilt_x_deg, dou
 }  // namespace
 
 std::vector<Eigen::Isometry3d> defaultBoardPoses() {
-  return {boardPose(0.0, -0.02, 1.00, 15, 10, 20),   boardPose(0.0, 0.02, 1.00, -15, -10, -20),
+  return {boardPose(0.0, -0.02, 1.00, 15, 10, 20), boardPose(0.0, 0.02, 1.00, -15, -10, -20),
           boardPose(0.03, -0.12, 1.25, 10, -15, 20), boardPose(-0.03, 0.10, 1.20, -10, 15, -20),
-          boardPose(0.0, 0.0, 1.10, 0, 25, 20),      boardPose(0.0, -0.20, 1.45, 10, 0, -20),
-          boardPose(0.0, 0.18, 1.45, -10, 5, 20),    boardPose(0.05, -0.05, 1.30, 20, 0, -15),
+          boardPose(0.0, 0.0, 1.10, 0, 25, 20), boardPose(0.0, -0.20, 1.45, 10, 0, -20),
+          boardPose(0.0, 0.18, 1.45, -10, 5, 20), boardPose(0.05, -0.05, 1.30, 20, 0, -15),
           boardPose(-0.05, 0.05, 0.97, -5, -20, 15), boardPose(0.0, 0.0, 0.85, -25, 10, 15),
-          boardPose(0.0, 0.02, 0.88, -20, -15, -20)};
+          boardPose(0.0, 0.02, 0.88, -20, -15, -20),
+          // Bottom image rows see stripes > 229 only nearer than ~0.95 m: the two boards at
+          // 0.8 m give them 3 poses (calibrated range 55-229 -> 53-249), so the calibration
+          // cylinder's bottom grid points (0.8-1 m away, where a pole's upper and lower pairs
+          // overlap) triangulate with the estimated calibration; the three boards up at
+          // 1.05-1.15 m add the top rows' stripes at that range.
+          boardPose(0.0, -0.05, 1.05, -20, 5, 10), boardPose(0.02, -0.05, 1.10, 20, -5, -10),
+          boardPose(0.0, 0.02, 0.80, 15, 10, 10), boardPose(0.0, 0.02, 0.80, -15, -10, -10),
+          boardPose(0.0, -0.06, 1.15, 0, 15, 12)};
 }
 
-std::shared_ptr<sim::Scene> boardScene(const ReferenceBoard& board,
+std::shared_ptr<sim::Scene> boardScene(const Checkerboard& board,
                                        const Eigen::Isometry3d& board_center_in_camera,
                                        const Eigen::Isometry3d& world_from_camera) {
   const Eigen::Isometry3d world_from_board = world_from_camera * board_center_in_camera;
@@ -42,13 +50,13 @@ std::shared_ptr<sim::Scene> boardScene(const ReferenceBoard& board,
   scene->add(std::make_unique<sim::CheckerboardPlane>(
       world_from_board.translation(), -world_from_board.linear().col(2),
       world_from_board.linear().col(0), board.inner_cols + 1, board.inner_rows + 1,
-      board.square_size, board.light_albedo, board.dark_albedo));
+      board.square_size, kBoardLightAlbedo, kBoardDarkAlbedo));
   // The board is mounted on a larger white panel 3 mm behind it: the light border a checker
   // detector needs (the board's own pixels are the only ones the calibration lifts).
   const double panel_half_extent = 0.5 * (board.inner_cols + 1) * board.square_size + 0.1;
   scene->add(std::make_unique<sim::Plane>(
       world_from_board * Eigen::Vector3d(0, 0, 0.003), -world_from_board.linear().col(2),
-      sim::Material{board.light_albedo, {0.9, 0.9, 0.9}}, panel_half_extent));
+      sim::Material{kBoardLightAlbedo, {0.9, 0.9, 0.9}}, panel_half_extent));
   return scene;
 }
 

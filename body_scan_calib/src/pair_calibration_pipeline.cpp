@@ -6,8 +6,6 @@
 
 #include <cmath>
 #include <numeric>
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
@@ -30,71 +28,39 @@ std::vector<Eigen::Vector3d> triangulateCloud(const PairCalibration& calibration
 
 }  // namespace
 
-// TODO(merge): calib::calibrateCamera. Stand-in until the camera part lands: OpenCV detects the
-// corners and calibrates with the suite's model (2-term radial, no tangential, k3 = 0).
 CameraAndBoardPoses estimateCameraAndBoardPoses(const std::vector<cv::Mat>& board_images,
-                                                const ReferenceBoard& board) {
+                                                const Checkerboard& board) {
   if (board_images.size() < 3)
     throw PairCalibrationError("camera calibration needs >= 3 board images, got " +
                                std::to_string(board_images.size()));
-  const cv::Size pattern(board.inner_cols, board.inner_rows);
-  std::vector<cv::Point3f> object;
-  for (int row = 0; row < board.inner_rows; ++row)
-    for (int col = 0; col < board.inner_cols; ++col)
-      object.emplace_back(static_cast<float>(col * board.square_size),
-                          static_cast<float>(row * board.square_size), 0.f);
-  std::vector<std::vector<cv::Point3f>> object_points;
-  std::vector<std::vector<cv::Point2f>> image_points;
-  for (size_t i = 0; i < board_images.size(); ++i) {
-    std::vector<cv::Point2f> corners;
-    if (!cv::findChessboardCorners(board_images[i], pattern, corners,
-                                   cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE))
-      throw PairCalibrationError(
-          "reference-plane pose " + std::to_string(i) + ": the " + std::to_string(pattern.width) +
-          "x" + std::to_string(pattern.height) +
-          " inner checker corners were not found; keep the whole board in view, lit, and check "
-          "the board size (inner corners, not squares)");
-    cv::cornerSubPix(board_images[i], corners, cv::Size(5, 5), cv::Size(-1, -1),
-                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-4));
-    image_points.push_back(corners);
-    object_points.push_back(object);
-  }
-  cv::Mat camera_matrix, distortion;
-  std::vector<cv::Mat> rvecs, tvecs;
   CameraAndBoardPoses result;
-  result.rms_px =
-      cv::calibrateCamera(object_points, image_points, board_images[0].size(), camera_matrix,
-                          distortion, rvecs, tvecs, cv::CALIB_ZERO_TANGENT_DIST | cv::CALIB_FIX_K3);
-  PinholeCamera& camera = result.camera;
-  camera.width = board_images[0].cols;
-  camera.height = board_images[0].rows;
-  camera.alpha = camera_matrix.at<double>(0, 0);
-  camera.beta = camera_matrix.at<double>(1, 1);
-  camera.gamma = camera_matrix.at<double>(0, 1);
-  camera.u0 = camera_matrix.at<double>(0, 2);
-  camera.v0 = camera_matrix.at<double>(1, 2);
-  camera.k1 = distortion.at<double>(0);
-  camera.k2 = distortion.at<double>(1);
-  for (size_t i = 0; i < rvecs.size(); ++i) {
-    cv::Mat rotation;
-    cv::Rodrigues(rvecs[i], rotation);
-    Eigen::Matrix3d r;
-    Eigen::Vector3d t;
-    cv::cv2eigen(rotation, r);
-    cv::cv2eigen(tvecs[i], t);
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.linear() = r;
-    pose.translation() = t;
-    result.board_to_camera.push_back(pose);
+  for (size_t i = 0; i < board_images.size(); ++i) {
     std::vector<Eigen::Vector2d> corners;
-    for (const cv::Point2f& p : image_points[i]) corners.emplace_back(p.x, p.y);
-    result.corners.push_back(corners);
+    if (!detectCheckerboardCorners(board_images[i], board, corners))
+      throw PairCalibrationError(
+          "reference-plane pose " + std::to_string(i) + ": the " +
+          std::to_string(board.inner_cols) + "x" + std::to_string(board.inner_rows) +
+          " inner checker corners were not found; keep the whole board with its white margin in "
+          "view, lit, and check the board size (inner corners, not squares)");
+    result.corners.push_back(std::move(corners));
+  }
+  try {
+    // Zhang's closed form (eqs 3.14-3.26) + maximum-likelihood refinement (Ceres).
+    const CameraCalibrationResult calibration =
+        calibrateCamera(result.corners, board, board_images[0].cols, board_images[0].rows);
+    result.camera = calibration.camera;
+    result.board_to_camera = calibration.board_to_camera;
+    result.rms_px = calibration.rms_px;
+    result.std_devs = calibration.std_devs;
+  } catch (const CameraCalibrationError& error) {
+    throw PairCalibrationError(std::string("camera calibration from the reference-plane poses: ") +
+                               error.what());
   }
   return result;
 }
 
 cv::Mat1b boardRegion(const PinholeCamera& camera, const Eigen::Isometry3d& board_to_camera,
-                      const ReferenceBoard& board) {
+                      const Checkerboard& board) {
   // Outline sampled densely so that lens distortion bends it like the image.
   const double s = board.square_size;
   const Eigen::Vector2d low(-0.5 * s, -0.5 * s);
@@ -168,10 +134,7 @@ PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& po
     input.camera = outcome.camera.camera;
     input.board_to_camera = outcome.camera.board_to_camera;
     input.corners = outcome.camera.corners;
-    for (int row = 0; row < options.board.inner_rows; ++row)
-      for (int col = 0; col < options.board.inner_cols; ++col)
-        input.board_points.emplace_back(col * options.board.square_size,
-                                        row * options.board.square_size, 0.0);
+    input.board_points = options.board.objectPoints();
     input.planes = &outcome.planes;
     const JointRefinementResult refined = refineJointly(input);
     const double plane_rms_before = outcome.planes.rms_m;
@@ -322,6 +285,11 @@ std::string accuracyReportYaml(const PairCalibrationOutcome& outcome,
       << rounded(camera.u0, 1e-3) << rounded(camera.v0, 1e-3) << YAML::EndSeq;
   out << YAML::Key << "k1_k2" << YAML::Value << YAML::Flow << YAML::BeginSeq
       << rounded(camera.k1, 1e-6) << rounded(camera.k2, 1e-6) << YAML::EndSeq;
+  // From the camera calibration alone ((J^T J)^-1 s^2), before the joint refinement.
+  out << YAML::Key << "std_dev_alpha_beta_gamma_u0_v0_k1_k2" << YAML::Value << YAML::Flow
+      << YAML::BeginSeq;
+  for (int i = 0; i < 7; ++i) out << outcome.camera.std_devs[i];
+  out << YAML::EndSeq;
   out << YAML::EndMap;
   out << YAML::Key << "projector" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "stripes" << YAML::Value << outcome.planes.projector.stripeCount();

@@ -4,6 +4,7 @@
 // refuse bad scenes with a clear message while the driver keeps serving.
 #include <body_scan_calib/calibration_bag.h>
 #include <body_scan_calib/calibration_capture.h>
+#include <body_scan_calib/calibration_rig.h>
 #include <body_scan_calib/capture_folder.h>
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/sim/virtual_pair.h>
@@ -45,18 +46,6 @@ bool waitForFiles(const std::vector<std::string>& files, fs::file_time_type star
   return false;
 }
 
-// The driver answers "still starting" until its pair is open (or failed to open).
-bool callOnceStarted(ros::ServiceClient& client, body_scan_msgs::SetScene& call) {
-  const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(20);
-  while (client.call(call)) {
-    if (call.response.message.find("still starting") == std::string::npos ||
-        ros::WallTime::now() > give_up)
-      return true;
-    ros::WallDuration(0.1).sleep();
-  }
-  return false;
-}
-
 double angleDeg(const Eigen::Vector4d& a, const Eigen::Vector4d& b) {
   return std::acos(std::min(1.0, a.head<3>().normalized().dot(b.head<3>().normalized()))) * 180 /
          M_PI;
@@ -70,7 +59,7 @@ TEST(SetScene, RefusesBadScenesAndTheDriverKeepsServing) {
   ASSERT_TRUE(client.waitForExistence(ros::Duration(20)));
   body_scan_msgs::SetScene bad_yaml;
   bad_yaml.request.scene_yaml = "objects: [ {type: sphere";
-  ASSERT_TRUE(callOnceStarted(client, bad_yaml));
+  ASSERT_TRUE(client.call(bad_yaml));
   EXPECT_FALSE(bad_yaml.response.success);
   EXPECT_NE(bad_yaml.response.message.find("YAML"), std::string::npos) << bad_yaml.response.message;
   body_scan_msgs::SetScene bad_object;
@@ -85,7 +74,7 @@ TEST(SetScene, RefusesBadScenesAndTheDriverKeepsServing) {
   ASSERT_TRUE(usb.waitForExistence(ros::Duration(20)));
   body_scan_msgs::SetScene on_usb;
   on_usb.request.scene_yaml = "objects: []\n";
-  ASSERT_TRUE(callOnceStarted(usb, on_usb));
+  ASSERT_TRUE(usb.call(on_usb));
   EXPECT_FALSE(on_usb.response.success);
   EXPECT_NE(on_usb.response.message.find("place the target by hand"), std::string::npos)
       << on_usb.response.message;
@@ -133,6 +122,8 @@ TEST(CalibrateLaunch, WritesACalibrationWhosePlanesMatchTheTruePlanes) {
   EXPECT_LT(worst_angle, 0.2);
   EXPECT_LT(worst_offset, 0.001);
   EXPECT_NEAR(estimated.camera.alpha / truth.camera.alpha, 1.0, 0.01);
+  // Named after the launch's pair, not the offline default "pair".
+  EXPECT_EQ(estimated.pair_id, "pole_a/pair_1");
 }
 
 // The launch also recorded the raw pattern sets: converted offline, they give the very folder
@@ -145,7 +136,8 @@ TEST(CalibrateLaunch, RecordedBagConvertsToTheCapturedFolder) {
   fs::remove_all(converted);
   const calib::BagConversionResult result =
       calib::bagToCalibrationFolder(bag, converted.string(), {});
-  ASSERT_EQ(result.folders.size(), 11u);  // the rig's poses, no spheres in this test
+  const size_t poses = calib::rig::defaultBoardPoses().size();
+  ASSERT_EQ(result.folders.size(), poses);  // the rig's poses, no spheres in this test
   int compared = 0, differing = 0;
   const PatternLayout layout(8, true);
   for (int pose = 0; pose < static_cast<int>(result.folders.size()); ++pose) {
@@ -159,7 +151,7 @@ TEST(CalibrateLaunch, RecordedBagConvertsToTheCapturedFolder) {
       differing += cv::countNonZero(live[f] != offline[f]);
     }
   }
-  EXPECT_EQ(compared, 11 * 18);
+  EXPECT_EQ(compared, static_cast<int>(poses) * 18);
   EXPECT_EQ(differing, 0);
 }
 

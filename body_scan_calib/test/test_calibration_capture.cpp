@@ -43,7 +43,7 @@ fs::path freshFolder(const std::string& name) {
 
 TEST(CalibrationCapture, BoardSceneFileRendersLikeTheRigScene) {
   const sim::VirtualPairConfig config = smallPair();
-  const calib::ReferenceBoard board;
+  const calib::Checkerboard board = calib::referenceBoard();
   const Eigen::Isometry3d pose = calib::rig::defaultBoardPoses()[2];
   const sim::VirtualPair from_rig(config,
                                   calib::rig::boardScene(board, pose, config.world_from_camera));
@@ -74,7 +74,7 @@ TEST(CalibrationCapture, SphereSceneFileRendersLikeTheRigScene) {
 TEST(CalibrationCapture, AveragingMatchesTheRigProtocol) {
   const sim::VirtualPairConfig config = smallPair();
   const sim::VirtualPair pair(
-      config, calib::rig::boardScene(calib::ReferenceBoard{}, calib::rig::defaultBoardPoses()[0],
+      config, calib::rig::boardScene(calib::referenceBoard(), calib::rig::defaultBoardPoses()[0],
                                      config.world_from_camera));
   std::vector<std::vector<cv::Mat>> captures;
   for (uint32_t id = 500; id < 503; ++id) captures.push_back(pair.render(id).frames);

@@ -28,7 +28,10 @@ constexpr const char* kUsage = R"(usage:
                                            (pattern frames in PatternSet order, >= 3 poses),
                                            optional FOLDER/spheres/frame_MM.png to evaluate
 options:
-  --pair FILE          virtual pair file (live; default: the built-in default pair)
+  --pair FILE          virtual pair file (live; default: the built-in default pair); its
+                       pair_id names the calibration (camera_name) and the report
+  --pair-id ID         pair id written into the files (offline: default "pair"; live:
+                       overrides the pair file's), e.g. pole_a/pair_1
   --exposures N        frames averaged per pattern for the static targets (default 16;
                        offline: how many the recorded frames average, for the report)
   --bits B             Gray code bits of the captures (default 8; live: from the pair)
@@ -41,7 +44,7 @@ options:
 
 struct Arguments {
   bool live = false;
-  std::string images, pair, save_images;
+  std::string images, pair, pair_id, save_images;
   int exposures = 16, bits = 8;
   bool refinement = true;
   std::string output = "calibration/pair.yaml", report = "calibration/pair_accuracy.yaml",
@@ -62,6 +65,8 @@ Arguments parse(int argc, char** argv) {
       arguments.images = value();
     else if (flag == "--pair")
       arguments.pair = value();
+    else if (flag == "--pair-id")
+      arguments.pair_id = value();
     else if (flag == "--exposures")
       arguments.exposures = std::stoi(value());
     else if (flag == "--bits")
@@ -82,6 +87,8 @@ Arguments parse(int argc, char** argv) {
   if (arguments.live == !arguments.images.empty())
     throw std::invalid_argument("give exactly one of --live and --images FOLDER");
   if (arguments.exposures < 1) throw std::invalid_argument("--exposures must be >= 1");
+  if (!arguments.live && !arguments.pair.empty())
+    throw std::invalid_argument("--pair FILE is for --live; offline, name the pair with --pair-id");
   return arguments;
 }
 
@@ -114,12 +121,13 @@ int main(int argc, char** argv) {
     constexpr double kSphereRadius = 0.025;
     std::unique_ptr<PairCalibration> truth;
     std::unique_ptr<PatternLayout> layout;
+    if (!arguments.pair_id.empty()) options.pair_id = arguments.pair_id;
 
     if (arguments.live) {
       sim::VirtualPairConfig config = arguments.pair.empty()
                                           ? sim::VirtualPairConfig{}
                                           : sim::loadVirtualPairConfig(arguments.pair);
-      options.pair_id = config.pair_id;
+      if (arguments.pair_id.empty()) options.pair_id = config.pair_id;
       layout = std::make_unique<PatternLayout>(config.bits, config.inverse_frames);
       const auto poses = calib::rig::defaultBoardPoses();
       for (size_t pose = 0; pose < poses.size(); ++pose) {

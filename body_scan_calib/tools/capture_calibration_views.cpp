@@ -37,6 +37,7 @@ struct Settings {
   bool spheres = true, calibrate = false;
   double capture_timeout = 30.0;
   std::string calibrate_pair, calibration_file, report_file, plot_file;
+  std::string pair_id;  // ~pair_id, else the captured pattern sets' pair_id
 };
 
 // One placement of a target: a scene for the simulator, words for the operator.
@@ -91,7 +92,7 @@ std::string describeBoardPose(const Eigen::Isometry3d& pose) {
 
 std::vector<Placement> placements(const Settings& settings,
                                   const Eigen::Isometry3d& world_from_camera) {
-  const calib::ReferenceBoard board;  // calibrate_pair's board (PairCalibrationOptions)
+  const calib::Checkerboard board = calib::referenceBoard();  // calibrate_pair's board
   std::vector<Eigen::Isometry3d> poses = calib::rig::defaultBoardPoses();
   if (settings.pose_count > 0 && settings.pose_count < static_cast<int>(poses.size()))
     poses.resize(settings.pose_count);
@@ -120,10 +121,12 @@ std::string siblingCalibratePair() {
   return error ? "calibrate_pair" : (self.parent_path() / "calibrate_pair").string();
 }
 
-int runCalibratePair(const Settings& settings, int bits) {
+int runCalibratePair(const Settings& settings, int bits, const std::string& pair_id) {
   std::vector<std::string> arguments = {settings.calibrate_pair,
                                         "--images",
                                         settings.folder,
+                                        "--pair-id",
+                                        pair_id,
                                         "--bits",
                                         std::to_string(bits),
                                         "--exposures",
@@ -167,6 +170,7 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   pnh.param<std::string>("calibration_file", settings.calibration_file, "");
   pnh.param<std::string>("report_file", settings.report_file, "");
   pnh.param<std::string>("plot_file", settings.plot_file, "");
+  pnh.param<std::string>("pair_id", settings.pair_id, "");
   // The simulator's scenes are in the world: the pair's pose comes from the driver's pair file.
   if (!pnh.getParam("pair_file", settings.pair_file))
     nh.param<std::string>(settings.driver + "/pair_file", settings.pair_file, "");
@@ -206,6 +210,10 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   if (!capture_client.waitForExistence(ros::Duration(settings.capture_timeout)))
     throw std::runtime_error("no service " + capture_client.getService() +
                              ": start the PairDriver (or set ~driver to its node name)");
+  if (settings.targets == "sim" &&
+      !scene_client.waitForExistence(ros::Duration(settings.capture_timeout)))
+    throw std::runtime_error("no service " + scene_client.getService() +
+                             ": the driver must be the simulator (backend:=sim)");
   for (ros::WallTime end = ros::WallTime::now() + ros::WallDuration(settings.capture_timeout);
        pattern_sub.getNumPublishers() == 0; ros::WallDuration(0.05).sleep())
     if (ros::WallTime::now() > end || !ros::ok())
@@ -228,19 +236,14 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   }
 
   int bits = 0;
+  std::string pair_id = settings.pair_id;
   for (size_t p = 0; p < plan.size(); ++p) {
     const Placement& placement = plan[p];
     if (settings.targets == "sim") {
       body_scan_msgs::SetScene set_scene;
       set_scene.request.scene_yaml = placement.scene_yaml;
-      // The driver advertises its services before its pair is open: retry while it starts.
-      const ros::WallTime give_up =
-          ros::WallTime::now() + ros::WallDuration(settings.capture_timeout);
-      while (scene_client.call(set_scene) && !set_scene.response.success &&
-             set_scene.response.message.find("still starting") != std::string::npos &&
-             ros::WallTime::now() < give_up)
-        ros::WallDuration(0.1).sleep();
-      if (!set_scene.response.success)
+      // The driver opens its pair before it advertises ~set_scene: one call is the answer.
+      if (!scene_client.call(set_scene) || !set_scene.response.success)
         throw std::runtime_error("cannot place the " + placement.name + " target: " +
                                  (set_scene.response.message.empty()
                                       ? "no service " + scene_client.getService()
@@ -270,6 +273,7 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
                                  pattern_sub.getTopic() + " within " +
                                  std::to_string(settings.capture_timeout) + " s");
       bits = set->bits;
+      if (pair_id.empty()) pair_id = set->pair_id;
       if (bag) bag->write(pattern_sub.getTopic(), ros::Time::now(), *set);
       if (!settings.folder.empty()) captures.push_back(calib::patternFrames(*set));
     }
@@ -288,7 +292,7 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   }
   if (!settings.calibrate) return 0;
   std::cout << "calibrating from " << settings.folder << std::endl;
-  const int status = runCalibratePair(settings, bits);
+  const int status = runCalibratePair(settings, bits, pair_id.empty() ? "pair" : pair_id);
   if (status != 0)
     throw std::runtime_error("calibrate_pair failed (exit status " + std::to_string(status) +
                              "); its error is printed above");

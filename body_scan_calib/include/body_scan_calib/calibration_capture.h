@@ -18,7 +18,7 @@ namespace body_scan::calib {
 
 // Scene-file text (body_scan_driver/config/scenes format) of the rig's board scene: the same
 // surfaces as rig::boardScene (the printed board on its white panel), world frame.
-std::string boardSceneYaml(const ReferenceBoard& board,
+std::string boardSceneYaml(const Checkerboard& board,
                            const Eigen::Isometry3d& board_center_in_camera,
                            const Eigen::Isometry3d& world_from_camera);
 // Likewise for rig::sphereScene (the evaluation spheres).

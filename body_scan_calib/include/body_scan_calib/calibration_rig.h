@@ -15,14 +15,19 @@
 
 namespace body_scan::calib::rig {
 
-// Poses (board centre, camera frame) that together see every stripe a 1 m scene needs on >= 3
-// poses, tilted for a well-conditioned camera calibration, the whole board inside the image.
+// Poses (board centre, camera frame) that together see every stripe a 0.8-1.2 m scene needs on
+// >= 3 poses (stripes 53-249 of the default pair: the spheres, the body, the calibration
+// cylinder), tilted for a well-conditioned camera calibration, the whole board inside the image.
 std::vector<Eigen::Isometry3d> defaultBoardPoses();
+
+// How the reference board (pair_calibration_pipeline.h referenceBoard()) is printed: light and
+// dark squares' albedos; the panel it is mounted on is as white as its light squares.
+constexpr double kBoardLightAlbedo = 0.85, kBoardDarkAlbedo = 0.3;
 
 // A scene with the printed board at `board_center_in_camera` (board x along the pose's x, the
 // board facing the camera), mounted on a larger white panel (the light border a checker detector
 // needs around the board).
-std::shared_ptr<sim::Scene> boardScene(const ReferenceBoard& board,
+std::shared_ptr<sim::Scene> boardScene(const Checkerboard& board,
                                        const Eigen::Isometry3d& board_center_in_camera,
                                        const Eigen::Isometry3d& world_from_camera);
 

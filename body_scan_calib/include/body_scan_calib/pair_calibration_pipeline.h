@@ -4,6 +4,7 @@
 // of both models (sec. 3.4.2) with its YAML report and the Fig 3.6 plot.
 #pragma once
 
+#include <body_scan_calib/camera_calibration.h>
 #include <body_scan_calib/pinhole_projector.h>
 #include <body_scan_calib/projector_calibration.h>
 #include <body_scan_calib/sphere_accuracy.h>
@@ -24,35 +25,35 @@ struct PairCalibrationError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The printed reference board (inner corners, square size in metres, printed albedos).
-struct ReferenceBoard {
-  int inner_cols = 9, inner_rows = 6;
-  double square_size = 0.05;
-  double light_albedo = 0.85, dark_albedo = 0.3;
-};
+// The pair's printed reference board: 9x6 inner corners, 50 mm squares (a 1 m scene needs the
+// larger squares; its albedos and white margin are the rig's, calibration_rig.h).
+inline Checkerboard referenceBoard() { return Checkerboard{9, 6, 0.05}; }
 
 struct CameraAndBoardPoses {
   PinholeCamera camera;
   std::vector<Eigen::Isometry3d> board_to_camera;  // board frame at the first inner corner
   std::vector<std::vector<Eigen::Vector2d>> corners;
   double rms_px = 0;
+  // Standard deviations of alpha, beta, gamma, u0, v0, k1, k2 (before any joint refinement).
+  Eigen::Matrix<double, 7, 1> std_devs = Eigen::Matrix<double, 7, 1>::Zero();
 };
 
 // Camera intrinsics and the pose of the board in every image (8-bit grey images of the board
-// under the projector's all-lit frame). Throws PairCalibrationError naming the image whose
-// corners were not found.
+// under the projector's all-lit frame): detectCheckerboardCorners + calibrateCamera (Zhang and
+// the maximum-likelihood refinement, camera_calibration.h). Throws PairCalibrationError naming
+// the image whose corners were not found, or why the camera calibration failed.
 CameraAndBoardPoses estimateCameraAndBoardPoses(const std::vector<cv::Mat>& board_images,
-                                                const ReferenceBoard& board);
+                                                const Checkerboard& board);
 
 // Pixels of the board inside its inner corners plus half a square (the printed area that is
 // surely board: the board's own border and background are excluded).
 cv::Mat1b boardRegion(const PinholeCamera& camera, const Eigen::Isometry3d& board_to_camera,
-                      const ReferenceBoard& board);
+                      const Checkerboard& board);
 
 using Progress = std::function<void(const std::string&)>;
 
 struct PairCalibrationOptions {
-  ReferenceBoard board;
+  Checkerboard board = referenceBoard();
   ProjectorCalibrationOptions projector;
   bool joint_refinement = true;  // Ceres: camera + board poses + planes together
   std::string pair_id = "pair";

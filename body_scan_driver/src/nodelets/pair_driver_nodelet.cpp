@@ -36,39 +36,8 @@ class PairDriverNodelet : public nodelet::Nodelet {
     world_frame_ = pnh.param<std::string>("world_frame", "world");
     const double rate = pnh.param("rate", 0.0);
 
-    pattern_pub_ = nh.advertise<body_scan_msgs::PatternSet>("pattern_set", 2);
-    image_pub_ = nh.advertise<sensor_msgs::Image>("image_raw", 2);
-    info_pub_ = nh.advertise<sensor_msgs::CameraInfo>("camera_info", 2);
-    capture_srv_ = pnh.advertiseService("capture", &PairDriverNodelet::onCapture, this);
-    trigger_sub_ = nh.subscribe("scan_trigger", 4, &PairDriverNodelet::onTrigger, this);
-    // Simulator only: replace the scene (e.g. to place a calibration target); a bad scene or a
-    // real pair is an error reply and the current scene stays.
-    set_scene_srv_ =
-        pnh.advertiseService<body_scan_msgs::SetScene::Request, body_scan_msgs::SetScene::Response>(
-            "set_scene", [this](auto& request, auto& response) {
-              std::lock_guard<std::mutex> lock(capture_mutex_);
-              response.success = false;
-              try {
-                if (!device_)
-                  throw std::runtime_error(device_error_.empty()
-                                               ? "the pair is still starting; call again"
-                                               : "pair not available: " + device_error_);
-                device_->replaceScene(request.scene_yaml);
-                response.success = true;
-                response.message = "scene replaced";
-              } catch (const std::exception& e) {
-                response.message = std::string("set_scene failed: ") + e.what();
-                NODELET_ERROR("[%s] %s", pair_id_.c_str(), response.message.c_str());
-              }
-              return true;
-            });
-
-    diagnostics_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
-    diagnostics_->setHardwareID("none");
-    diagnostics_->add("pair " + pair_id_, this, &PairDriverNodelet::diagnose);
-    diagnostics_timer_ = nh.createWallTimer(
-        ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
-
+    // The device is assigned before any callback can run (services, trigger, diagnostics):
+    // ROS serves callbacks as soon as they are advertised, and device_ is read without a lock.
     try {
       if (backend == "sim") {
         device_ = makeSimulatedPair(pnh.param<std::string>("pair_file", ""),
@@ -94,8 +63,39 @@ class PairDriverNodelet : public nodelet::Nodelet {
       // Stay alive so the other pairs in this manager keep working; captures report the error.
       device_error_ = e.what();
       NODELET_ERROR("[%s] cannot open the pair: %s", pair_id_.c_str(), e.what());
-      return;
     }
+
+    pattern_pub_ = nh.advertise<body_scan_msgs::PatternSet>("pattern_set", 2);
+    image_pub_ = nh.advertise<sensor_msgs::Image>("image_raw", 2);
+    info_pub_ = nh.advertise<sensor_msgs::CameraInfo>("camera_info", 2);
+    capture_srv_ = pnh.advertiseService("capture", &PairDriverNodelet::onCapture, this);
+    trigger_sub_ = nh.subscribe("scan_trigger", 4, &PairDriverNodelet::onTrigger, this);
+    // Simulator only: replace the scene (e.g. to place a calibration target); a bad scene or a
+    // real pair is an error reply and the current scene stays.
+    set_scene_srv_ =
+        pnh.advertiseService<body_scan_msgs::SetScene::Request, body_scan_msgs::SetScene::Response>(
+            "set_scene", [this](auto& request, auto& response) {
+              std::lock_guard<std::mutex> lock(capture_mutex_);
+              response.success = false;
+              try {
+                if (!device_) throw std::runtime_error("pair not available: " + device_error_);
+                device_->replaceScene(request.scene_yaml);
+                response.success = true;
+                response.message = "scene replaced";
+              } catch (const std::exception& e) {
+                response.message = std::string("set_scene failed: ") + e.what();
+                NODELET_ERROR("[%s] %s", pair_id_.c_str(), response.message.c_str());
+              }
+              return true;
+            });
+
+    diagnostics_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+    diagnostics_->setHardwareID("none");
+    diagnostics_->add("pair " + pair_id_, this, &PairDriverNodelet::diagnose);
+    diagnostics_timer_ = nh.createWallTimer(
+        ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
+
+    if (!device_) return;  // stays alive; captures and set_scene answer with device_error_
     publishFactoryData(pnh.param<std::string>("factory_calibration_file", ""),
                        pnh.param("publish_factory_tf", true));
     if (rate > 0)
