@@ -1,4 +1,5 @@
 #include <body_scan_driver/triangulation.h>
+#include <immintrin.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,25 +11,84 @@ namespace body_scan {
 
 namespace {
 
+#define BODY_SCAN_ALWAYS_INLINE inline __attribute__((always_inline))
+#define BODY_SCAN_TARGET_AVX2 __attribute__((target("avx2")))
+#define BODY_SCAN_TARGET_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq")))
+
+struct TriangulationRows {
+  const float* coordinates;
+  size_t coordinate_step;
+  int width, height;
+  const float *rays_x, *rays_y, *planes, *deltas;
+  int stripe_count;
+  float min_range, max_range;
+  float* out;
+  size_t point_stride;
+};
+
+// x = x_n z, y = y_n z (eqs 3.10, 3.11) of one row into points of any stride.
+BODY_SCAN_ALWAYS_INLINE void writePoints(const float* __restrict ray_x,
+                                         const float* __restrict ray_y,
+                                         const float* __restrict depth, int width,
+                                         float* __restrict points, size_t point_stride) {
+  for (int u = 0; u < width; ++u) {
+    float* point = points + u * point_stride;
+    point[0] = ray_x[u] * depth[u];
+    point[1] = ray_y[u] * depth[u];
+    point[2] = depth[u];
+  }
+}
+
+// The same for 4-float points, 8 at a time: the 4th float of each point (rgb in a PointCloud2)
+// is read and written back unchanged.
+BODY_SCAN_TARGET_AVX2 void writePoints4Avx2(const float* __restrict ray_x,
+                                            const float* __restrict ray_y,
+                                            const float* __restrict depth, int width,
+                                            float* __restrict points) {
+  int u = 0;
+  for (; u + 8 <= width; u += 8) {
+    const __m256 z = _mm256_loadu_ps(depth + u);
+    const __m256 x = _mm256_mul_ps(_mm256_loadu_ps(ray_x + u), z);
+    const __m256 y = _mm256_mul_ps(_mm256_loadu_ps(ray_y + u), z);
+    // Per 128-bit half: xy_low = x0 y0 x1 y1, z_low = z0 z0 z1 z1 of its first two pixels.
+    const __m256 xy_low = _mm256_unpacklo_ps(x, y), xy_high = _mm256_unpackhi_ps(x, y);
+    const __m256 z_low = _mm256_unpacklo_ps(z, z), z_high = _mm256_unpackhi_ps(z, z);
+    // p0 = pixel 0 | pixel 4, p1 = 1 | 5, p2 = 2 | 6, p3 = 3 | 7, each (x, y, z, z).
+    const __m256 p0 = _mm256_shuffle_ps(xy_low, z_low, _MM_SHUFFLE(1, 0, 1, 0));
+    const __m256 p1 = _mm256_shuffle_ps(xy_low, z_low, _MM_SHUFFLE(3, 2, 3, 2));
+    const __m256 p2 = _mm256_shuffle_ps(xy_high, z_high, _MM_SHUFFLE(1, 0, 1, 0));
+    const __m256 p3 = _mm256_shuffle_ps(xy_high, z_high, _MM_SHUFFLE(3, 2, 3, 2));
+    const __m256 pixels[4] = {
+        _mm256_permute2f128_ps(p0, p1, 0x20), _mm256_permute2f128_ps(p2, p3, 0x20),
+        _mm256_permute2f128_ps(p0, p1, 0x31), _mm256_permute2f128_ps(p2, p3, 0x31)};
+    float* base = points + 4 * static_cast<size_t>(u);
+    for (int k = 0; k < 4; ++k)  // 0x88: elements 3 and 7 keep the old 4th float
+      _mm256_storeu_ps(base + 8 * k,
+                       _mm256_blend_ps(pixels[k], _mm256_loadu_ps(base + 8 * k), 0x88));
+  }
+  writePoints(ray_x + u, ray_y + u, depth + u, width - u, points + 4 * static_cast<size_t>(u), 4);
+}
+
 // The per-pixel work over plain arrays. Stripes cross a row rarely (they are bands across the
 // image), so each row is cut into runs of one plane index: within a run the plane and its
 // slope are constants and the loop vectorizes; a NaN coordinate gives a NaN depth.
-size_t triangulateRows(const float* coordinates, size_t coordinate_step, int width, int height,
-                       const float* rays_x, const float* rays_y, const float* planes,
-                       const float* deltas, int stripe_count, float min_range, float max_range,
-                       float* out, size_t point_stride) {
+BODY_SCAN_ALWAYS_INLINE size_t triangulateRows(const TriangulationRows& rows,
+                                               void (*write_points4)(const float*, const float*,
+                                                                     const float*, int, float*)) {
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-  const int last_lower = stripe_count - 2;
+  const int width = rows.width;
+  const int last_lower = rows.stripe_count - 2;
+  const float min_range = rows.min_range, max_range = rows.max_range;
   std::vector<float> depth_buffer(width);
   std::vector<int> lower_buffer(width);
   float* __restrict depth = depth_buffer.data();
   int* __restrict lower = lower_buffer.data();
   size_t valid = 0;
-  for (int v = 0; v < height; ++v) {
-    const float* __restrict s = coordinates + static_cast<size_t>(v) * coordinate_step;
+  for (int v = 0; v < rows.height; ++v) {
+    const float* __restrict s = rows.coordinates + static_cast<size_t>(v) * rows.coordinate_step;
     const size_t row = static_cast<size_t>(v) * width;
-    const float* __restrict ray_x = rays_x + row;
-    const float* __restrict ray_y = rays_y + row;
+    const float* __restrict ray_x = rows.rays_x + row;
+    const float* __restrict ray_y = rows.rays_y + row;
     // Plane i sits at the stripe centre s = i + 0.5: pixel u interpolates planes lower[u] and
     // lower[u] + 1.
     for (int u = 0; u < width; ++u) {
@@ -39,8 +99,8 @@ size_t triangulateRows(const float* coordinates, size_t coordinate_step, int wid
     for (int start = 0; start < width;) {
       int end = start + 1;
       while (end < width && lower[end] == lower[start]) ++end;
-      const float* p = planes + 4 * lower[start];
-      const float* dp = deltas + 4 * lower[start];
+      const float* p = rows.planes + 4 * lower[start];
+      const float* dp = rows.deltas + 4 * lower[start];
       const float base = static_cast<float>(lower[start]) + 0.5f;
       const float a = p[0], b = p[1], c = p[2], d = p[3];
       const float da = dp[0], db = dp[1], dc = dp[2], dd = dp[3];
@@ -55,21 +115,31 @@ size_t triangulateRows(const float* coordinates, size_t coordinate_step, int wid
       start = end;
     }
     valid += static_cast<size_t>(row_valid);
-    float* points = out + row * point_stride;
-    for (int u = 0; u < width; ++u) {
-      float* point = points + u * point_stride;
-      point[0] = ray_x[u] * depth[u];  // eq 3.10
-      point[1] = ray_y[u] * depth[u];  // eq 3.11
-      point[2] = depth[u];
+    float* points = rows.out + row * rows.point_stride;
+    if (write_points4 && rows.point_stride == 4) {
+      write_points4(ray_x, ray_y, depth, width, points);
+    } else {
+      writePoints(ray_x, ray_y, depth, width, points, rows.point_stride);
     }
   }
   return valid;
 }
 
+// One body, compiled for each instruction set (simd.h); -ffp-contract=off keeps the floats equal.
+size_t triangulateSse2(const TriangulationRows& rows) { return triangulateRows(rows, nullptr); }
+BODY_SCAN_TARGET_AVX2 size_t triangulateAvx2(const TriangulationRows& rows) {
+  return triangulateRows(rows, writePoints4Avx2);
+}
+BODY_SCAN_TARGET_AVX512 size_t triangulateAvx512(const TriangulationRows& rows) {
+  return triangulateRows(rows, writePoints4Avx2);
+}
+
 }  // namespace
 
-Triangulator::Triangulator(const PairCalibration& calibration, double min_range, double max_range)
+Triangulator::Triangulator(const PairCalibration& calibration, double min_range, double max_range,
+                           SimdLevel max_simd)
     : calibration_(calibration),
+      simd_(effectiveSimdLevel(max_simd)),
       min_range_(static_cast<float>(min_range)),
       max_range_(static_cast<float>(max_range)) {
   const PinholeCamera& camera = calibration.camera;
@@ -102,10 +172,28 @@ size_t Triangulator::triangulate(const cv::Mat1f& coordinate, float* out,
                                 calibration_.pair_id + "' is for " + std::to_string(camera.width) +
                                 "x" + std::to_string(camera.height) +
                                 ": use the calibration file of this camera and resolution");
-  return triangulateRows(coordinate.ptr<float>(), coordinate.step1(), camera.width, camera.height,
-                         ray_x_.data(), ray_y_.data(), planes_.data(), plane_deltas_.data(),
-                         calibration_.projector.stripeCount(), min_range_, max_range_, out,
-                         point_stride);
+  const TriangulationRows rows{coordinate.ptr<float>(),
+                               coordinate.step1(),
+                               camera.width,
+                               camera.height,
+                               ray_x_.data(),
+                               ray_y_.data(),
+                               planes_.data(),
+                               plane_deltas_.data(),
+                               calibration_.projector.stripeCount(),
+                               min_range_,
+                               max_range_,
+                               out,
+                               point_stride};
+  switch (simd_) {
+    case SimdLevel::kAvx512:
+      return triangulateAvx512(rows);
+    case SimdLevel::kAvx2:
+      return triangulateAvx2(rows);
+    case SimdLevel::kSse2:
+      break;
+  }
+  return triangulateSse2(rows);
 }
 
 }  // namespace body_scan

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 #include "sim_fixtures.h"
 #include "sphere_fit.h"
@@ -81,5 +83,34 @@ TEST(Triangulation, RejectsAStripeImageOfTheWrongSize) {
     FAIL() << "size mismatch accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("640x480"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Triangulation, EverySimdLevelGivesTheSameFloatsAndKeepsOtherFields) {
+  // A plane filling the view plus scattered invalid pixels; strides 4 (vector path) and 3.
+  const sim::VirtualPair pair(test::pairLookingAlongX(), test::planeScene(1.0));
+  StripeImage image;
+  StripeDecoder(pair.layout()).decode(pair.render(31).frames, image);
+  for (int v = 0; v < image.coordinate.rows; v += 7)  // some invalid pixels too
+    image.coordinate(v, v % image.coordinate.cols) = std::numeric_limits<float>::quiet_NaN();
+  for (size_t stride : {size_t{4}, size_t{3}}) {
+    const size_t floats = stride * image.coordinate.total() + 1;
+    std::vector<float> expected(floats, 42.f);
+    const size_t expected_valid =
+        Triangulator(pair.factoryCalibration(), 0.2, 5.0, SimdLevel::kSse2)
+            .triangulate(image.coordinate, expected.data(), stride);
+    EXPECT_GT(expected_valid, 300000u);
+    // The 4th float of stride-4 points and the float after the last point stay untouched.
+    for (size_t i = 3; stride == 4 && i < floats; i += stride)
+      ASSERT_EQ(expected[i], 42.f) << "field " << i << " overwritten";
+    ASSERT_EQ(expected.back(), 42.f);
+    for (SimdLevel level : availableSimdLevels()) {
+      std::vector<float> points(floats, 42.f);
+      EXPECT_EQ(Triangulator(pair.factoryCalibration(), 0.2, 5.0, level)
+                    .triangulate(image.coordinate, points.data(), stride),
+                expected_valid);
+      EXPECT_EQ(std::memcmp(points.data(), expected.data(), floats * sizeof(float)), 0)
+          << simdLevelName(level) << ", stride " << stride;
+    }
   }
 }

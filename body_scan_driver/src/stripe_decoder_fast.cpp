@@ -1,0 +1,404 @@
+// DecoderParams::Implementation::kFast: the reference decoder's computation (stripe_decoder.cpp)
+// rearranged into three row passes, with bit-identical output:
+//   1. integer pass: contrast, the 3x3 silhouette and lone-pixel filters from rolling row
+//      buffers (no whole-image temporaries), per-bit decisions, Gray -> binary, stripe centres;
+//      every loop is branch-free over a row, so it vectorizes;
+//   2. boundary flags: one bit per pixel "stripe id differs from the previous pixel along the
+//      line", from vector compares (16-bit lanes -> bit masks);
+//   3. subpixel pass: the reference's boundary walk, run only at flagged pixels (found by
+//      counting trailing zeros), so "is this a boundary?" is no longer a mispredicted branch
+//      every ~2 pixels.
+// The vector loops are compiled three times, for the x86-64 baseline (SSE2), AVX2 and AVX-512,
+// and chosen at run time (simd.h). Every float operation is the reference's, in the same order,
+// and the library builds with -ffp-contract=off (no fused multiply-add), so every level gives
+// the same bits as the reference.
+#include <body_scan_driver/stripe_decoder.h>
+#include <immintrin.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "stripe_decoder_internal.h"
+
+#define BODY_SCAN_ALWAYS_INLINE inline __attribute__((always_inline))
+#define BODY_SCAN_TARGET_AVX2 __attribute__((target("avx2")))
+#define BODY_SCAN_TARGET_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq")))
+
+namespace body_scan {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr uint32_t kNaNBits = 0x7FC00000u;  // kNaN
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// Inputs and outputs of the integer pass over one pattern set.
+struct IntegerPass {
+  const uint8_t* lit;
+  const uint8_t* dark;
+  const uint8_t* const* pattern;
+  const uint8_t* const* inverse;  // nullptr without inverse frames
+  size_t frame_step;
+  int cols, rows, bits;
+  uint8_t min_contrast;     // contrast >= this is bright ...
+  uint8_t contrast_usable;  // ... and 0 when min_contrast > 255 (nothing is)
+  uint8_t min_bright_window;
+  uint16_t ratio_q8;  // edge_contrast_ratio in 1/256
+  uint16_t* stripe;
+  size_t stripe_step;  // elements
+  float* coordinate;
+  size_t coordinate_step;  // elements
+  uint8_t* scratch;        // scratchBytes(cols)
+  std::vector<uint32_t>* tied;
+};
+
+size_t paddedWidth(int cols) { return (static_cast<size_t>(cols) + 2 + 63) & ~size_t{63}; }
+// 3 ring rows of horizontal max and bright count, 3 padded contrast rows, one padded bright
+// row, the 16-bit code row, tie and valid flags.
+size_t scratchBytes(int cols) { return paddedWidth(cols) * (3 + 3 + 3 + 1 + 2 + 1 + 1); }
+
+// Horizontal 3-pixel max of the contrast and count of bright pixels of row r (outside the image
+// counts as 0: OpenCV's dilate border and the reference's zero padding); zero rows outside.
+BODY_SCAN_ALWAYS_INLINE void prepareRow(const IntegerPass& pass, int r, uint8_t* __restrict hmax,
+                                        uint8_t* __restrict hsum, uint8_t* __restrict contrast,
+                                        uint8_t* __restrict bright) {
+  const int cols = pass.cols;
+  if (r < 0 || r >= pass.rows) {
+    std::memset(hmax, 0, cols);
+    std::memset(hsum, 0, cols);
+    return;
+  }
+  const uint8_t* __restrict lit = pass.lit + static_cast<size_t>(r) * pass.frame_step;
+  const uint8_t* __restrict dark = pass.dark + static_cast<size_t>(r) * pass.frame_step;
+  const uint8_t min_contrast = pass.min_contrast, usable = pass.contrast_usable;
+  contrast[0] = contrast[cols + 1] = 0;
+  bright[0] = bright[cols + 1] = 0;
+  for (int u = 0; u < cols; ++u) {
+    const uint8_t c = lit[u] > dark[u] ? static_cast<uint8_t>(lit[u] - dark[u]) : 0;  // saturated
+    contrast[u + 1] = c;
+    bright[u + 1] = static_cast<uint8_t>((c >= min_contrast) & usable);
+  }
+  for (int u = 0; u < cols; ++u) {
+    hmax[u] = std::max(std::max(contrast[u], contrast[u + 1]), contrast[u + 2]);
+    hsum[u] = static_cast<uint8_t>(bright[u] + bright[u + 1] + bright[u + 2]);
+  }
+}
+
+template <typename Code>
+BODY_SCAN_ALWAYS_INLINE void integerPassCoded(const IntegerPass& pass) {
+  const int cols = pass.cols, rows = pass.rows;
+  const size_t width = paddedWidth(cols);
+  uint8_t* hmax[3] = {pass.scratch, pass.scratch + width, pass.scratch + 2 * width};
+  uint8_t* hsum[3] = {hmax[2] + width, hmax[2] + 2 * width, hmax[2] + 3 * width};
+  uint8_t* contrast[3] = {hsum[2] + width, hsum[2] + 2 * width, hsum[2] + 3 * width};
+  uint8_t* bright = contrast[2] + width;
+  Code* __restrict code = reinterpret_cast<Code*>(bright + width);
+  uint8_t* __restrict tied = bright + 3 * width;
+  uint8_t* __restrict valid = tied + width;
+  const uint8_t min_contrast = pass.min_contrast, usable = pass.contrast_usable;
+  const uint8_t min_window = pass.min_bright_window;
+  const uint16_t ratio = pass.ratio_q8;
+
+  prepareRow(pass, -1, hmax[2], hsum[2], contrast[2], bright);  // ring slot of row -1
+  prepareRow(pass, 0, hmax[0], hsum[0], contrast[0], bright);
+  for (int v = 0; v < rows; ++v) {
+    const int above = (v + 2) % 3, middle = v % 3, below = (v + 1) % 3;
+    prepareRow(pass, v + 1, hmax[below], hsum[below], contrast[below], bright);
+    const uint8_t* __restrict c = contrast[middle] + 1;
+    const uint8_t* __restrict max_a = hmax[above], * __restrict max_m = hmax[middle], * __restrict max_b = hmax[below];
+    const uint8_t* __restrict sum_a = hsum[above], * __restrict sum_m = hsum[middle], * __restrict sum_b = hsum[below];
+    // Shadow mask, silhouette filter and lone-pixel filter (see decodeIntegers).
+    for (int u = 0; u < cols; ++u) {
+      const uint8_t local_max = std::max(std::max(max_a[u], max_m[u]), max_b[u]);
+      const uint8_t support = static_cast<uint8_t>(sum_a[u] + sum_m[u] + sum_b[u]);
+      valid[u] = static_cast<uint8_t>(
+          (c[u] >= min_contrast) & usable & (support >= min_window) &
+          (static_cast<uint16_t>(c[u] << 8) >= static_cast<uint16_t>(ratio * local_max)));
+    }
+    const size_t row = static_cast<size_t>(v) * pass.frame_step;
+    for (int u = 0; u < cols; ++u) {
+      code[u] = 0;
+      tied[u] = 0;
+    }
+    for (int bit = 0; bit < pass.bits; ++bit) {
+      const uint8_t* __restrict pattern = pass.pattern[bit] + row;
+      if (pass.inverse) {
+        const uint8_t* __restrict inverted = pass.inverse[bit] + row;
+        for (int u = 0; u < cols; ++u) {
+          code[u] = static_cast<Code>((code[u] << 1) | (pattern[u] > inverted[u]));
+          tied[u] |= pattern[u] == inverted[u];
+        }
+      } else {
+        const uint8_t* __restrict lit = pass.lit + row;
+        const uint8_t* __restrict dark = pass.dark + row;
+        for (int u = 0; u < cols; ++u) {
+          const int16_t signal = static_cast<int16_t>(2 * pattern[u] - lit[u] - dark[u]);
+          code[u] = static_cast<Code>((code[u] << 1) | (signal > 0));
+          tied[u] |= signal == 0;
+        }
+      }
+    }
+    uint8_t any_tie = 0;
+    for (int u = 0; u < cols; ++u) any_tie |= tied[u] & valid[u];
+    if (any_tie)  // rare: 8-bit ties on a bit's edge, resolved by the caller
+      for (int u = 0; u < cols; ++u)
+        if (tied[u] & valid[u]) pass.tied->push_back(static_cast<uint32_t>(v * cols + u));
+    uint16_t* __restrict stripe = pass.stripe + v * pass.stripe_step;
+    float* __restrict coordinate = pass.coordinate + v * pass.coordinate_step;
+    for (int u = 0; u < cols; ++u) {
+      const uint16_t keep = static_cast<uint16_t>(0 - valid[u]);  // 0xFFFF where valid
+      stripe[u] = static_cast<uint16_t>((grayDecode(static_cast<uint16_t>(code[u])) & keep) |
+                                        static_cast<uint16_t>(~keep & kInvalidStripe));
+    }
+    // A bitwise select: GCC does not vectorize "invalid ? NaN : centre" (the float add could
+    // trap), so the NaN is merged into the centre's bits.
+    uint32_t* __restrict coordinate_bits = reinterpret_cast<uint32_t*>(coordinate);
+    for (int u = 0; u < cols; ++u) {
+      const float centre = static_cast<float>(static_cast<int32_t>(stripe[u])) + 0.5f;
+      uint32_t centre_bits;
+      std::memcpy(&centre_bits, &centre, sizeof centre_bits);
+      const uint32_t invalid = 0u - static_cast<uint32_t>(stripe[u] == kInvalidStripe);
+      coordinate_bits[u] = (centre_bits & ~invalid) | (kNaNBits & invalid);
+    }
+  }
+}
+
+BODY_SCAN_ALWAYS_INLINE void integerPassInline(const IntegerPass& pass) {
+  if (pass.bits <= 8) {
+    integerPassCoded<uint8_t>(pass);
+  } else {
+    integerPassCoded<uint16_t>(pass);
+  }
+}
+
+void integerPassSse2(const IntegerPass& pass) { integerPassInline(pass); }
+BODY_SCAN_TARGET_AVX2 void integerPassAvx2(const IntegerPass& pass) { integerPassInline(pass); }
+BODY_SCAN_TARGET_AVX512 void integerPassAvx512(const IntegerPass& pass) { integerPassInline(pass); }
+
+// bits[i / 64] bit (i % 64) = a[i] != b[i] for i < n.
+void changedTail(const uint16_t* a, const uint16_t* b, int begin, int n, uint64_t* bits) {
+  if (begin >= n) return;
+  uint64_t mask = 0;
+  for (int k = 0; begin + k < n; ++k)
+    mask |= static_cast<uint64_t>(a[begin + k] != b[begin + k]) << k;
+  bits[begin / 64] = mask;
+}
+
+void changedSse2(const uint16_t* a, const uint16_t* b, int n, uint64_t* bits) {
+  int i = 0;
+  for (; i + 64 <= n; i += 64) {
+    uint64_t mask = 0;
+    for (int k = 0; k < 64; k += 16) {
+      const __m128i low =
+          _mm_cmpeq_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(a + i + k)),
+                          _mm_loadu_si128(reinterpret_cast<const __m128i*>(b + i + k)));
+      const __m128i high =
+          _mm_cmpeq_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(a + i + k + 8)),
+                          _mm_loadu_si128(reinterpret_cast<const __m128i*>(b + i + k + 8)));
+      const uint32_t equal = static_cast<uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(low, high)));
+      mask |= static_cast<uint64_t>(~equal & 0xFFFFu) << k;
+    }
+    bits[i / 64] = mask;
+  }
+  changedTail(a, b, i, n, bits);
+}
+
+BODY_SCAN_TARGET_AVX2 void changedAvx2(const uint16_t* a, const uint16_t* b, int n,
+                                       uint64_t* bits) {
+  int i = 0;
+  for (; i + 64 <= n; i += 64) {
+    uint64_t mask = 0;
+    for (int k = 0; k < 64; k += 32) {
+      const __m256i low =
+          _mm256_cmpeq_epi16(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(a + i + k)),
+                             _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b + i + k)));
+      const __m256i high =
+          _mm256_cmpeq_epi16(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(a + i + k + 16)),
+                             _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b + i + k + 16)));
+      // packs works within 128-bit lanes: restore the pixel order of the 64-bit quarters.
+      const __m256i packed = _mm256_permute4x64_epi64(_mm256_packs_epi16(low, high), 0xD8);
+      const uint32_t equal = static_cast<uint32_t>(_mm256_movemask_epi8(packed));
+      mask |= static_cast<uint64_t>(~equal) << k;
+    }
+    bits[i / 64] = mask;
+  }
+  changedTail(a, b, i, n, bits);
+}
+
+BODY_SCAN_TARGET_AVX512 void changedAvx512(const uint16_t* a, const uint16_t* b, int n,
+                                           uint64_t* bits) {
+  int i = 0;
+  for (; i + 64 <= n; i += 64) {
+    const uint64_t low =
+        _mm512_cmpneq_epi16_mask(_mm512_loadu_si512(a + i), _mm512_loadu_si512(b + i));
+    const uint64_t high =
+        _mm512_cmpneq_epi16_mask(_mm512_loadu_si512(a + i + 32), _mm512_loadu_si512(b + i + 32));
+    bits[i / 64] = low | (high << 32);
+  }
+  changedTail(a, b, i, n, bits);
+}
+
+}  // namespace
+
+void StripeDecoder::decodeFast(const std::vector<cv::Mat>& frames, const FrameRows& rows,
+                               StripeImage& out) const {
+  const SimdLevel level = effectiveSimdLevel(params_.max_simd);
+  const int cols = frames[0].cols, rows_count = frames[0].rows;
+  IntegerPass pass;
+  pass.lit = rows.lit;
+  pass.dark = rows.dark;
+  pass.pattern = rows.pattern.data();
+  pass.inverse = rows.inverse.empty() ? nullptr : rows.inverse.data();
+  pass.frame_step = rows.step;
+  pass.cols = cols;
+  pass.rows = rows_count;
+  pass.bits = layout_.bits();
+  pass.min_contrast = static_cast<uint8_t>(std::clamp(params_.min_contrast, 0, 255));
+  pass.contrast_usable = params_.min_contrast <= 255;
+  pass.min_bright_window =
+      static_cast<uint8_t>(std::clamp(params_.min_bright_neighbours + 1, 0, 10));
+  pass.ratio_q8 = static_cast<uint16_t>(edge_ratio_q8_);
+  pass.stripe = out.stripe.ptr<uint16_t>();
+  pass.stripe_step = out.stripe.step1();
+  pass.coordinate = out.coordinate.ptr<float>();
+  pass.coordinate_step = out.coordinate.step1();
+  fast_rows_.resize(scratchBytes(cols));
+  pass.scratch = fast_rows_.data();
+  tied_pixels_.clear();
+  pass.tied = &tied_pixels_;
+  switch (level) {
+    case SimdLevel::kAvx512:
+      integerPassAvx512(pass);
+      break;
+    case SimdLevel::kAvx2:
+      integerPassAvx2(pass);
+      break;
+    case SimdLevel::kSse2:
+      integerPassSse2(pass);
+      break;
+  }
+  // The integer pass decoded tied pixels without their tied bits; redo them as the reference
+  // does (grayEncode inverts grayDecode, giving back the raw code).
+  for (const uint32_t pixel : tied_pixels_) {
+    const int v = static_cast<int>(pixel / cols), u = static_cast<int>(pixel % cols);
+    uint16_t& stripe = out.stripe(v, u);
+    const uint16_t raw = static_cast<uint16_t>(grayEncode(stripe));
+    stripe = grayDecode(
+        breakTies(rows, raw, static_cast<size_t>(v) * rows.step + u, u, v, cols, rows_count));
+    out.coordinate(v, u) = static_cast<float>(static_cast<int32_t>(stripe)) + 0.5f;
+  }
+  if (!params_.subpixel) return;
+  const bool along_rows = params_.axis == DecoderParams::StripeAxis::kAuto
+                              ? stripesChangeAlongRows(out)
+                              : params_.axis == DecoderParams::StripeAxis::kAlongRows;
+  if (along_rows) {
+    interpolateBoundariesFast<true>(rows, out, level);
+  } else {
+    interpolateBoundariesFast<false>(rows, out, level);
+  }
+}
+
+template <bool kAlongRows>
+void StripeDecoder::interpolateBoundariesFast(const FrameRows& frame_rows, StripeImage& out,
+                                              SimdLevel level) const {
+  // The reference's walk (interpolateBoundaries), visiting only the pixels whose stripe id
+  // differs from the previous one along the line; see there for the meaning of each step.
+  const int cols = out.stripe.cols, rows = out.stripe.rows;
+  const int lines = kAlongRows ? cols : rows;
+  const int length = kAlongRows ? rows : cols;
+  const size_t stripe_step = out.stripe.step1(), coordinate_step = out.coordinate.step1();
+  const size_t frame_step = frame_rows.step;
+  auto at = [](size_t step, int line, int position) -> size_t {
+    return kAlongRows ? static_cast<size_t>(position) * step + line
+                      : static_cast<size_t>(line) * step + position;
+  };
+  const uint16_t* stripes = out.stripe.ptr<uint16_t>();
+  float* coordinates = out.coordinate.ptr<float>();
+  const float max_width = static_cast<float>(params_.max_stripe_width_px);
+  const size_t along = kAlongRows ? coordinate_step : 1;  // coordinate stride along a line
+  void (*changed)(const uint16_t*, const uint16_t*, int, uint64_t*) =
+      level == SimdLevel::kAvx512 ? changedAvx512
+      : level == SimdLevel::kAvx2 ? changedAvx2
+                                  : changedSse2;
+
+  // Rewrites the run [segment_start, end] of one stripe id between two boundaries. The two
+  // cases of the reference (interpolation between two boundaries, extrapolation from one) are
+  // one formula with selected constants, so the only branch left is "write nothing".
+  auto flush = [&](const LineWalk& walk, int line, int end, bool next_valid, float next_position,
+                   float next_coordinate) {
+    const float stripe = stripes[at(stripe_step, line, end)];
+    const bool interpolate = walk.previous_valid && next_valid &&
+                             std::abs(next_coordinate - walk.previous_coordinate) == 1.f &&
+                             next_position - walk.previous_position <= max_width;
+    if (!interpolate && !(walk.stripe_width > 0 && (walk.previous_valid || next_valid))) return;
+    const bool from_previous = interpolate || walk.previous_valid;
+    const float origin_coordinate = from_previous ? walk.previous_coordinate : next_coordinate;
+    const float origin_position = from_previous ? walk.previous_position : next_position;
+    const float rise = interpolate ? next_coordinate - walk.previous_coordinate
+                                   : (origin_coordinate == stripe ? 1.f : -1.f);
+    const float run = interpolate ? next_position - walk.previous_position : walk.stripe_width;
+    const float slope = rise / run;
+    // clamp(x, -inf, inf) == x, NaN included: the interpolation is not clamped.
+    const float low = interpolate ? -kInfinity : stripe;
+    const float high = interpolate ? kInfinity : stripe + 1.f;
+    float* line_coordinates = coordinates + at(coordinate_step, line, 0);
+    for (int position = walk.segment_start; position <= end; ++position) {
+      const float offset = static_cast<float>(position) - origin_position;
+      line_coordinates[position * along] = std::clamp(
+          origin_coordinate + (interpolate ? offset : std::abs(offset)) * slope, low, high);
+    }
+  };
+
+  line_walks_.assign(lines, LineWalk{});
+  auto step = [&](int line, int position) {
+    const uint16_t current = stripes[at(stripe_step, line, position)];
+    const uint16_t last = stripes[at(stripe_step, line, position - 1)];
+    LineWalk& walk = line_walks_[line];
+    const bool valid =
+        last != kInvalidStripe && current != kInvalidStripe && std::abs(current - last) == 1;
+    float position_here = 0, coordinate_here = 0;
+    if (valid) {
+      const int bit = bit_between_[std::min(current, last)];
+      const float a = frame_rows.signal(bit, at(frame_step, line, position - 1));
+      const float b = frame_rows.signal(bit, at(frame_step, line, position));
+      const float t = a == b ? 0.5f : std::clamp(a / (a - b), 0.f, 1.f);
+      position_here = static_cast<float>(position - 1) + t;
+      coordinate_here = static_cast<float>(std::max(current, last));
+    }
+    if (last != kInvalidStripe)
+      flush(walk, line, position - 1, valid, position_here, coordinate_here);
+    if (valid && walk.previous_valid && std::abs(coordinate_here - walk.previous_coordinate) == 1.f)
+      walk.stripe_width = position_here - walk.previous_position;
+    walk.previous_valid = valid;
+    walk.previous_position = position_here;
+    walk.previous_coordinate = coordinate_here;
+    walk.segment_start = position;
+  };
+
+  changed_bits_.resize((static_cast<size_t>(std::max(cols, 1)) + 63) / 64);
+  uint64_t* bits = changed_bits_.data();
+  if (kAlongRows) {
+    const int words = (cols + 63) / 64;
+    for (int position = 1; position < length; ++position) {
+      changed(stripes + position * stripe_step, stripes + (position - 1) * stripe_step, cols, bits);
+      for (int word = 0; word < words; ++word)
+        for (uint64_t mask = bits[word]; mask != 0; mask &= mask - 1)
+          step(64 * word + __builtin_ctzll(mask), position);
+    }
+  } else if (length > 1) {
+    const int words = (length - 1 + 63) / 64;
+    for (int line = 0; line < lines; ++line) {
+      const uint16_t* row = stripes + line * stripe_step;
+      changed(row + 1, row, length - 1, bits);
+      for (int word = 0; word < words; ++word)
+        for (uint64_t mask = bits[word]; mask != 0; mask &= mask - 1)
+          step(line, 64 * word + __builtin_ctzll(mask) + 1);
+    }
+  }
+  for (int line = 0; line < lines; ++line)
+    if (stripes[at(stripe_step, line, length - 1)] != kInvalidStripe)
+      flush(line_walks_[line], line, length - 1, false, 0.f, 0.f);
+}
+
+}  // namespace body_scan
