@@ -95,6 +95,8 @@ class StripeDecoder {
   mutable std::vector<uint32_t> tied_pixels_;   // kFast: valid pixels with a tied bit
   mutable std::vector<uint64_t> changed_bits_;  // kFast: boundary flags of one row
   mutable std::vector<LineWalk> line_walks_;    // kFast: one per line
+  mutable std::vector<float> walk_floats_;      // kFast: the same as arrays (lines = columns)
+  mutable std::vector<int32_t> walk_ints_;
 };
 
 // Throws std::invalid_argument unless frames match the layout (count, type, equal sizes).
