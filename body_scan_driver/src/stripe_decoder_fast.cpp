@@ -50,13 +50,21 @@ struct IntegerPass {
   float* coordinate;
   size_t coordinate_step;  // elements
   uint8_t* scratch;        // scratchBytes(cols)
+  // For the walk along image columns, per pixel (row-major, cols apart) of rows >= 1: the
+  // signals above and at the pixel of the one bit whose raw code differs from the pixel above
+  // (meaningful where the two stripe ids differ by one). nullptr: not wanted.
+  int16_t* flip_before;
+  int16_t* flip_here;
   std::vector<uint32_t>* tied;
 };
 
 size_t paddedWidth(int cols) { return (static_cast<size_t>(cols) + 2 + 63) & ~size_t{63}; }
 // 3 ring rows of horizontal max and bright count, 3 padded contrast rows, one padded bright
-// row, the 16-bit code row, tie and valid flags.
-size_t scratchBytes(int cols) { return paddedWidth(cols) * (3 + 3 + 3 + 1 + 2 + 1 + 1); }
+// row, two 16-bit code rows (this one and the one above), tie and valid flags, two rows of
+// 16-bit signals per bit, the 16-bit code difference to the row above.
+size_t scratchBytes(int cols) {
+  return paddedWidth(cols) * (3 + 3 + 3 + 1 + 2 * 2 + 1 + 1 + 2 * 2 * kMaxBits + 2);
+}
 
 // Horizontal 3-pixel max of the contrast and count of bright pixels of row r (outside the image
 // counts as 0: OpenCV's dilate border and the reference's zero padding); zero rows outside.
@@ -93,9 +101,13 @@ BODY_SCAN_ALWAYS_INLINE void integerPassCoded(const IntegerPass& pass) {
   uint8_t* hsum[3] = {hmax[2] + width, hmax[2] + 2 * width, hmax[2] + 3 * width};
   uint8_t* contrast[3] = {hsum[2] + width, hsum[2] + 2 * width, hsum[2] + 3 * width};
   uint8_t* bright = contrast[2] + width;
-  Code* __restrict code = reinterpret_cast<Code*>(bright + width);
-  uint8_t* __restrict tied = bright + 3 * width;
+  Code* code_rows[2] = {reinterpret_cast<Code*>(bright + width),
+                        reinterpret_cast<Code*>(bright + 3 * width)};
+  uint8_t* __restrict tied = bright + 5 * width;
   uint8_t* __restrict valid = tied + width;
+  int16_t* signal_rows[2] = {reinterpret_cast<int16_t*>(valid + width),
+                             reinterpret_cast<int16_t*>(valid + width) + kMaxBits * width};
+  int16_t* __restrict flipped_bits = signal_rows[1] + kMaxBits * width;
   const uint8_t min_contrast = pass.min_contrast, usable = pass.contrast_usable;
   const uint8_t min_window = pass.min_bright_window;
   const uint16_t ratio = pass.ratio_q8;
@@ -117,6 +129,8 @@ BODY_SCAN_ALWAYS_INLINE void integerPassCoded(const IntegerPass& pass) {
           (static_cast<uint16_t>(c[u] << 8) >= static_cast<uint16_t>(ratio * local_max)));
     }
     const size_t row = static_cast<size_t>(v) * pass.frame_step;
+    Code* __restrict code = code_rows[v & 1];
+    const Code* __restrict code_above = code_rows[(v + 1) & 1];
     for (int u = 0; u < cols; ++u) {
       code[u] = 0;
       tied[u] = 0;
@@ -136,6 +150,45 @@ BODY_SCAN_ALWAYS_INLINE void integerPassCoded(const IntegerPass& pass) {
           const int16_t signal = static_cast<int16_t>(2 * pattern[u] - lit[u] - dark[u]);
           code[u] = static_cast<Code>((code[u] << 1) | (signal > 0));
           tied[u] |= signal == 0;
+        }
+      }
+    }
+    if (pass.flip_before) {
+      // Signals of every bit (kept for the row below), then per pixel the flipped bit's pair.
+      int16_t* signals = signal_rows[v & 1];
+      const int16_t* signals_above = signal_rows[(v + 1) & 1];
+      for (int bit = 0; bit < pass.bits; ++bit) {
+        const uint8_t* __restrict pattern = pass.pattern[bit] + row;
+        const uint8_t* __restrict other = pass.inverse ? pass.inverse[bit] + row : nullptr;
+        const uint8_t* __restrict lit = pass.lit + row;
+        const uint8_t* __restrict dark = pass.dark + row;
+        int16_t* __restrict signal = signals + bit * width;
+        if (other) {
+          for (int u = 0; u < cols; ++u) signal[u] = static_cast<int16_t>(pattern[u] - other[u]);
+        } else {
+          for (int u = 0; u < cols; ++u)
+            signal[u] = static_cast<int16_t>(2 * pattern[u] - lit[u] - dark[u]);
+        }
+      }
+      if (v > 0) {
+        int16_t* __restrict before = pass.flip_before + static_cast<size_t>(v) * cols;
+        int16_t* __restrict here = pass.flip_here + static_cast<size_t>(v) * cols;
+        for (int u = 0; u < cols; ++u) {
+          before[u] = 0;
+          here[u] = 0;
+        }
+        // 16-bit lanes throughout (x86 has no byte shifts).
+        for (int u = 0; u < cols; ++u)
+          flipped_bits[u] = static_cast<int16_t>(code[u] ^ code_above[u]);
+        for (int bit = 0; bit < pass.bits; ++bit) {
+          const int16_t bit_mask = static_cast<int16_t>(1 << (pass.bits - 1 - bit));
+          const int16_t* __restrict signal = signals + bit * width;
+          const int16_t* __restrict signal_above = signals_above + bit * width;
+          for (int u = 0; u < cols; ++u) {  // selects as bit operations: vectorize everywhere
+            const int16_t flips = static_cast<int16_t>(-((flipped_bits[u] & bit_mask) != 0));
+            before[u] = static_cast<int16_t>((signal_above[u] & flips) | (before[u] & ~flips));
+            here[u] = static_cast<int16_t>((signal[u] & flips) | (here[u] & ~flips));
+          }
         }
       }
     }
@@ -255,8 +308,8 @@ constexpr int kVectorRun = 3;
 struct WalkRow {
   const uint16_t* current;        // stripe ids of row `position`
   const uint16_t* last;           // ... and of the row before
-  const float* signal_before;     // the flipped bit's signal above and at the boundary (where
-  const float* signal_here;       // the stripe id changed by one; anything elsewhere)
+  const int16_t* signal_before;   // the flipped bit's signal above and at the boundary (where
+  const int16_t* signal_here;     // the stripe id changed by one; anything elsewhere)
   float* coordinate[kVectorRun];  // rows position - 1, -2, -3 (a spare row where < 0)
   int32_t* segment_start;
   int32_t* previous_valid;
@@ -269,22 +322,16 @@ struct WalkRow {
 };
 
 #pragma GCC push_options
-#pragma GCC target("avx2")
-namespace avx2 {
-#include "stripe_decoder_walk_row.inc"
-}  // namespace avx2
-#pragma GCC pop_options
-#pragma GCC push_options
 #pragma GCC target("avx512f,avx512bw,avx512vl,avx512dq")
 namespace avx512 {
 #include "stripe_decoder_walk_row.inc"
 }  // namespace avx512
 #pragma GCC pop_options
 
-// SSE2 leaves every column to the scalar step: GCC lowers the 4-lane selects of this loop badly
-// without SSE4.1 blends (measured 4.5-6.6 ms per set against 1.1-1.4 ms scalar).
-int walkRowSse2(const WalkRow&) { return 0; }
-BODY_SCAN_TARGET_AVX2 int walkRowAvx2(const WalkRow& row) { return avx2::walkRowLanes<8>(row); }
+// Only AVX-512 runs the row-parallel walk; below it decodeFast uses the reference walk. With SSE2
+// GCC lowers these selects badly (no blends; 4.5-6.6 ms per set against the reference's
+// 1.6-1.9 ms), and with AVX2 (8 lanes) the walk plus the flipped-bit signals of the integer
+// pass took longer than the reference walk.
 BODY_SCAN_TARGET_AVX512 int walkRowAvx512(const WalkRow& row) {
   return avx512::walkRowLanes<16>(row);
 }
@@ -317,6 +364,14 @@ void StripeDecoder::decodeFast(const std::vector<cv::Mat>& frames, const FrameRo
   pass.scratch = fast_rows_.data();
   tied_pixels_.clear();
   pass.tied = &tied_pixels_;
+  // The vectorized walk along image columns (AVX-512) reads the flipped bit's signals from the
+  // integer pass (the frames are in cache there); the scalar walk reads the frames itself.
+  const bool flips_wanted = params_.subpixel && level == SimdLevel::kAvx512 &&
+                            params_.axis != DecoderParams::StripeAxis::kAlongColumns;
+  const size_t pixels = static_cast<size_t>(cols) * rows_count;
+  flip_signals_.resize(flips_wanted ? 2 * pixels : 0);
+  pass.flip_before = flips_wanted ? flip_signals_.data() : nullptr;
+  pass.flip_here = flips_wanted ? flip_signals_.data() + pixels : nullptr;
   switch (level) {
     case SimdLevel::kAvx512:
       integerPassAvx512(pass);
@@ -338,12 +393,33 @@ void StripeDecoder::decodeFast(const std::vector<cv::Mat>& frames, const FrameRo
         breakTies(rows, raw, static_cast<size_t>(v) * rows.step + u, u, v, cols, rows_count));
     out.coordinate(v, u) = static_cast<float>(static_cast<int32_t>(stripe)) + 0.5f;
   }
+  // The flipped bit of a pair involving a tied pixel came from its untied code: redo both pairs.
+  if (flips_wanted)
+    for (const uint32_t pixel : tied_pixels_) {
+      const int v = static_cast<int>(pixel / cols), u = static_cast<int>(pixel % cols);
+      for (int below = std::max(v, 1); below <= std::min(v + 1, rows_count - 1); ++below) {
+        const int here = out.stripe(below, u), above = out.stripe(below - 1, u);
+        if (here == kInvalidStripe || above == kInvalidStripe || std::abs(here - above) != 1)
+          continue;
+        const int bit = bit_between_[std::min(here, above)];
+        const size_t index = static_cast<size_t>(below) * cols + u;
+        const size_t frame_index = static_cast<size_t>(below) * rows.step + u;
+        pass.flip_before[index] = static_cast<int16_t>(rows.signal(bit, frame_index - rows.step));
+        pass.flip_here[index] = static_cast<int16_t>(rows.signal(bit, frame_index));
+      }
+    }
   if (!params_.subpixel) return;
   const bool along_rows = params_.axis == DecoderParams::StripeAxis::kAuto
                               ? stripesChangeAlongRows(out)
                               : params_.axis == DecoderParams::StripeAxis::kAlongRows;
   if (along_rows) {
-    interpolateBoundariesFast<true>(rows, out, level);
+    // Below AVX-512 the reference walk is the fastest measured (see walkRowAvx512).
+    const bool flips_ready = flip_signals_.size() == 2 * pixels;
+    if (flips_ready) {
+      interpolateBoundariesFast<true>(rows, out, level);
+    } else {
+      interpolateBoundaries<true>(rows, out);
+    }
   } else {
     interpolateBoundariesFast<false>(rows, out, level);
   }
@@ -440,14 +516,15 @@ void StripeDecoder::interpolateBoundariesFast(const FrameRows& frame_rows, Strip
   uint64_t* bits = changed_bits_.data();
   if (kAlongRows) {
     // Per column state as arrays (WalkRow), the flipped bit's signals, two spare rows.
-    walk_floats_.assign(7 * static_cast<size_t>(cols), 0.f);
+    walk_floats_.assign(5 * static_cast<size_t>(cols), 0.f);
     walk_ints_.assign(3 * static_cast<size_t>(cols), 0);
     float* previous_position = walk_floats_.data();
     float* previous_coordinate = previous_position + cols;
     float* stripe_width = previous_coordinate + cols;
-    float* signal_before = stripe_width + cols;
-    float* signal_here = signal_before + cols;
-    float* spare_rows[2] = {signal_here + cols, signal_here + 2 * cols};
+    float* spare_rows[2] = {stripe_width + cols, stripe_width + 2 * cols};
+    const size_t pixels = static_cast<size_t>(cols) * rows;
+    const int16_t* flips_before = flip_signals_.data();
+    const int16_t* flips_here = flips_before + pixels;
     int32_t* segment_start = walk_ints_.data();
     int32_t* previous_valid = segment_start + cols;
     int32_t* needs_scalar = previous_valid + cols;
@@ -467,31 +544,16 @@ void StripeDecoder::interpolateBoundariesFast(const FrameRows& frame_rows, Strip
       previous_valid[u] = walk.previous_valid;
       stripe_width[u] = walk.stripe_width;
     };
-    int (*walk_row)(const WalkRow&) = level == SimdLevel::kAvx512 ? walkRowAvx512
-                                      : level == SimdLevel::kAvx2 ? walkRowAvx2
-                                                                  : walkRowSse2;
     const int words = (cols + 63) / 64;
     for (int position = 1; position < length; ++position) {
       const uint16_t* current = stripes + position * stripe_step;
       const uint16_t* last = current - stripe_step;
       changed(current, last, cols, bits);
-      for (int word = 0; word < words; ++word)
-        for (uint64_t mask = bits[word]; mask != 0; mask &= mask - 1) {
-          const int u = 64 * word + __builtin_ctzll(mask);
-          const int here = current[u], before = last[u];
-          if (here != kInvalidStripe && before != kInvalidStripe && std::abs(here - before) == 1) {
-            const int bit = bit_between_[std::min(here, before)];
-            signal_before[u] =
-                static_cast<float>(frame_rows.signal(bit, at(frame_step, u, position - 1)));
-            signal_here[u] =
-                static_cast<float>(frame_rows.signal(bit, at(frame_step, u, position)));
-          }
-        }
       WalkRow row;
       row.current = current;
       row.last = last;
-      row.signal_before = signal_before;
-      row.signal_here = signal_here;
+      row.signal_before = flips_before + static_cast<size_t>(position) * cols;
+      row.signal_here = flips_here + static_cast<size_t>(position) * cols;
       for (int k = 0; k < kVectorRun; ++k)
         row.coordinate[k] = position - 1 - k >= 0
                                 ? coordinates + (position - 1 - k) * coordinate_step
@@ -505,7 +567,7 @@ void StripeDecoder::interpolateBoundariesFast(const FrameRows& frame_rows, Strip
       row.cols = cols;
       row.position = position;
       row.max_width = max_width;
-      const int vector_end = walk_row(row);
+      const int vector_end = walkRowAvx512(row);
       for (int u = vector_end; u < cols; ++u) needs_scalar[u] = 1;  // columns left over
       for (int word = 0; word < words; ++word)
         for (uint64_t mask = bits[word]; mask != 0; mask &= mask - 1) {

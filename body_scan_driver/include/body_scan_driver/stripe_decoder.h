@@ -97,6 +97,7 @@ class StripeDecoder {
   mutable std::vector<LineWalk> line_walks_;    // kFast: one per line
   mutable std::vector<float> walk_floats_;      // kFast: the same as arrays (lines = columns)
   mutable std::vector<int32_t> walk_ints_;
+  mutable std::vector<int16_t> flip_signals_;  // kFast: per pixel, see IntegerPass
 };
 
 // Throws std::invalid_argument unless frames match the layout (count, type, equal sizes).
