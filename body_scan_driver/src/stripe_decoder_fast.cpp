@@ -129,6 +129,14 @@ BODY_SCAN_ALWAYS_INLINE void integerPassCoded(const IntegerPass& pass) {
           (static_cast<uint16_t>(c[u] << 8) >= static_cast<uint16_t>(ratio * local_max)));
     }
     const size_t row = static_cast<size_t>(v) * pass.frame_step;
+    if (v + 2 < rows) {  // the next rows of all frames: 18 streams are too many for the prefetcher
+      const size_t ahead = row + 2 * pass.frame_step;
+      for (int bit = 0; bit < pass.bits; ++bit)
+        for (int u = 0; u < cols; u += 64) {
+          __builtin_prefetch(pass.pattern[bit] + ahead + u);
+          if (pass.inverse) __builtin_prefetch(pass.inverse[bit] + ahead + u);
+        }
+    }
     Code* __restrict code = code_rows[v & 1];
     const Code* __restrict code_above = code_rows[(v + 1) & 1];
     for (int u = 0; u < cols; ++u) {
@@ -192,11 +200,16 @@ BODY_SCAN_ALWAYS_INLINE void integerPassCoded(const IntegerPass& pass) {
         }
       }
     }
-    uint8_t any_tie = 0;
-    for (int u = 0; u < cols; ++u) any_tie |= tied[u] & valid[u];
-    if (any_tie)  // rare: 8-bit ties on a bit's edge, resolved by the caller
-      for (int u = 0; u < cols; ++u)
-        if (tied[u] & valid[u]) pass.tied->push_back(static_cast<uint32_t>(v * cols + u));
+    // Valid pixels with a tie (rare, resolved by the caller), 8 flags per step.
+    for (int u = 0; u < cols; u += 8) {
+      uint64_t tied_word, valid_word;
+      std::memcpy(&tied_word, tied + u, sizeof tied_word);
+      std::memcpy(&valid_word, valid + u, sizeof valid_word);
+      for (uint64_t both = tied_word & valid_word; both != 0; both &= both - 1) {
+        const int pixel = u + __builtin_ctzll(both) / 8;
+        if (pixel < cols) pass.tied->push_back(static_cast<uint32_t>(v * cols + pixel));
+      }
+    }
     uint16_t* __restrict stripe = pass.stripe + v * pass.stripe_step;
     float* __restrict coordinate = pass.coordinate + v * pass.coordinate_step;
     for (int u = 0; u < cols; ++u) {
