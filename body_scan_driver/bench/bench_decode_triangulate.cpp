@@ -5,6 +5,7 @@
 //                            no triangulation)
 //   .../ours_reference       the same with DecoderParams::Implementation::kReference
 //   .../copy                 a plain copy of the same bytes (the memory-bound floor)
+//   .../triangulate_only     our triangulation alone (hot only)
 //   .../read_frames_write_outputs  read every frame byte and write every output byte (stripe
 //                            ids, coordinates, the 4-float cloud): the floor for any decoder
 //                            with our outputs
@@ -86,6 +87,19 @@ void decodeTriangulate(benchmark::State& state, DecoderParams::Implementation im
 void ours(benchmark::State& state) {
   decodeTriangulate(state, DecoderParams::Implementation::kFast);
   state.SetLabel(simdLevelName(detectedSimdLevel()));
+}
+
+// Our triangulation alone (the set decoded once before timing), for the roofline.
+void triangulateOnly(benchmark::State& state) {
+  const SceneSets& s = scene(sceneName(state));
+  StripeImage stripes;
+  StripeDecoder(s.pair->layout()).decode(s.sets[0], stripes);
+  const Triangulator triangulator(s.pair->factoryCalibration());
+  std::vector<float> cloud(640 * 480 * 4);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(triangulator.triangulate(stripes.coordinate, cloud.data(), 4));
+    benchmark::ClobberMemory();
+  }
 }
 
 void oursReference(benchmark::State& state) {
@@ -180,6 +194,7 @@ void registerAll() {
       add("opencv_getProjPixel", opencvGetProjPixel)->Iterations(16);
       add("copy", copy);
       add("read_frames_write_outputs", readFramesWriteOutputs);
+      if (!stream) add("triangulate_only", triangulateOnly);
     }
   for (int person : {0, 1})
     benchmark::RegisterBenchmark(person ? "RenderPatternSet/person" : "RenderPatternSet/plane",

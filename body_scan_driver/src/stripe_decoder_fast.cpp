@@ -329,7 +329,8 @@ struct WalkRow {
   float* previous_position;
   float* previous_coordinate;
   float* stripe_width;
-  int32_t* needs_scalar;  // out
+  int32_t* needs_scalar;   // out
+  bool* any_needs_scalar;  // out: some column of this row needs the scalar step
   int cols, position;
   float max_width;
 };
@@ -561,8 +562,9 @@ void StripeDecoder::interpolateBoundariesFast(const FrameRows& frame_rows, Strip
     for (int position = 1; position < length; ++position) {
       const uint16_t* current = stripes + position * stripe_step;
       const uint16_t* last = current - stripe_step;
-      changed(current, last, cols, bits);
       WalkRow row;
+      bool any_needs_scalar = false;
+      row.any_needs_scalar = &any_needs_scalar;
       row.current = current;
       row.last = last;
       row.signal_before = flips_before + static_cast<size_t>(position) * cols;
@@ -581,7 +583,9 @@ void StripeDecoder::interpolateBoundariesFast(const FrameRows& frame_rows, Strip
       row.position = position;
       row.max_width = max_width;
       const int vector_end = walkRowAvx512(row);
+      if (!any_needs_scalar) continue;
       for (int u = vector_end; u < cols; ++u) needs_scalar[u] = 1;  // columns left over
+      changed(current, last, cols, bits);
       for (int word = 0; word < words; ++word)
         for (uint64_t mask = bits[word]; mask != 0; mask &= mask - 1) {
           const int u = 64 * word + __builtin_ctzll(mask);
