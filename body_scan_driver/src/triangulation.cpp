@@ -69,6 +69,45 @@ BODY_SCAN_TARGET_AVX2 void writePoints4Avx2(const float* __restrict ray_x,
   writePoints(ray_x + u, ray_y + u, depth + u, width - u, points + 4 * static_cast<size_t>(u), 4);
 }
 
+// The same with AVX-512, 16 at a time: masked stores leave the 4th float alone without reading
+// the cloud first (it is 4.9 MB: reading it costs DRAM bandwidth when the cloud is not cached).
+BODY_SCAN_TARGET_AVX512 void writePoints4Avx512(const float* __restrict ray_x,
+                                                const float* __restrict ray_y,
+                                                const float* __restrict depth, int width,
+                                                float* __restrict points) {
+  // The maskz forms with all lanes set are the plain instructions; GCC 12 warns about the plain
+  // intrinsics' _mm512_undefined_ps() operand (-Wmaybe-uninitialized).
+  constexpr __mmask16 kAll = 0xFFFF;
+  int u = 0;
+  for (; u + 16 <= width; u += 16) {
+    const __m512 z = _mm512_loadu_ps(depth + u);
+    const __m512 x = _mm512_mul_ps(_mm512_loadu_ps(ray_x + u), z);
+    const __m512 y = _mm512_mul_ps(_mm512_loadu_ps(ray_y + u), z);
+    // As in writePoints4Avx2, per 128-bit lane: p0 = pixels 0, 4, 8, 12; p1 = 1, 5, 9, 13; ...
+    const __m512 xy_low = _mm512_maskz_unpacklo_ps(kAll, x, y),
+                 xy_high = _mm512_maskz_unpackhi_ps(kAll, x, y);
+    const __m512 z_low = _mm512_maskz_unpacklo_ps(kAll, z, z),
+                 z_high = _mm512_maskz_unpackhi_ps(kAll, z, z);
+    const __m512 p0 = _mm512_maskz_shuffle_ps(kAll, xy_low, z_low, _MM_SHUFFLE(1, 0, 1, 0));
+    const __m512 p1 = _mm512_maskz_shuffle_ps(kAll, xy_low, z_low, _MM_SHUFFLE(3, 2, 3, 2));
+    const __m512 p2 = _mm512_maskz_shuffle_ps(kAll, xy_high, z_high, _MM_SHUFFLE(1, 0, 1, 0));
+    const __m512 p3 = _mm512_maskz_shuffle_ps(kAll, xy_high, z_high, _MM_SHUFFLE(3, 2, 3, 2));
+    // 4x4 transpose of 128-bit lanes: t0 = pixels 0, 4, 1, 5; t1 = 2, 6, 3, 7; t2 = 8, 12, 9,
+    // 13; t3 = 10, 14, 11, 15; then 0-3, 4-7, 8-11, 12-15.
+    const __m512 t0 = _mm512_maskz_shuffle_f32x4(kAll, p0, p1, 0x44),
+                 t1 = _mm512_maskz_shuffle_f32x4(kAll, p2, p3, 0x44);
+    const __m512 t2 = _mm512_maskz_shuffle_f32x4(kAll, p0, p1, 0xEE),
+                 t3 = _mm512_maskz_shuffle_f32x4(kAll, p2, p3, 0xEE);
+    float* base = points + 4 * static_cast<size_t>(u);
+    constexpr __mmask16 kXyz = 0x7777;  // floats 0-2 of each point
+    _mm512_mask_storeu_ps(base, kXyz, _mm512_maskz_shuffle_f32x4(kAll, t0, t1, 0x88));
+    _mm512_mask_storeu_ps(base + 16, kXyz, _mm512_maskz_shuffle_f32x4(kAll, t0, t1, 0xDD));
+    _mm512_mask_storeu_ps(base + 32, kXyz, _mm512_maskz_shuffle_f32x4(kAll, t2, t3, 0x88));
+    _mm512_mask_storeu_ps(base + 48, kXyz, _mm512_maskz_shuffle_f32x4(kAll, t2, t3, 0xDD));
+  }
+  writePoints(ray_x + u, ray_y + u, depth + u, width - u, points + 4 * static_cast<size_t>(u), 4);
+}
+
 // The per-pixel work over plain arrays. Stripes cross a row rarely (they are bands across the
 // image), so each row is cut into runs of one plane index: within a run the plane and its
 // slope are constants and the loop vectorizes; a NaN coordinate gives a NaN depth.
@@ -131,7 +170,7 @@ BODY_SCAN_TARGET_AVX2 size_t triangulateAvx2(const TriangulationRows& rows) {
   return triangulateRows(rows, writePoints4Avx2);
 }
 BODY_SCAN_TARGET_AVX512 size_t triangulateAvx512(const TriangulationRows& rows) {
-  return triangulateRows(rows, writePoints4Avx2);
+  return triangulateRows(rows, writePoints4Avx512);
 }
 
 }  // namespace
