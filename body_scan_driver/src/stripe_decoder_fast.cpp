@@ -1,17 +1,19 @@
 // DecoderParams::Implementation::kFast: the reference decoder's computation (stripe_decoder.cpp)
-// rearranged into three row passes, with bit-identical output:
+// rearranged into three row passes, with bit-identical output (docs/ARCHITECTURE.md, "Decoder
+// speed"):
 //   1. integer pass: contrast, the 3x3 silhouette and lone-pixel filters from rolling row
 //      buffers (no whole-image temporaries), per-bit decisions, Gray -> binary, stripe centres;
-//      every loop is branch-free over a row, so it vectorizes;
+//      every loop is branch-free over a row, so it vectorizes. With AVX-512 it also keeps the
+//      signals of the bit that flips between each pixel and the one above (for pass 3);
 //   2. boundary flags: one bit per pixel "stripe id differs from the previous pixel along the
 //      line", from vector compares (16-bit lanes -> bit masks);
-//   3. subpixel pass: the reference's boundary walk, run only at flagged pixels (found by
-//      counting trailing zeros), so "is this a boundary?" is no longer a mispredicted branch
-//      every ~2 pixels.
-// The vector loops are compiled three times, for the x86-64 baseline (SSE2), AVX2 and AVX-512,
-// and chosen at run time (simd.h). Every float operation is the reference's, in the same order,
-// and the library builds with -ffp-contract=off (no fused multiply-add), so every level gives
-// the same bits as the reference.
+//   3. subpixel pass: lines along image rows walk only the flagged pixels (count trailing
+//      zeros); lines along image columns walk all columns of a row at once (AVX-512,
+//      stripe_decoder_walk_row.inc) or, below AVX-512, with the reference walk.
+// The vector loops are compiled for the x86-64 baseline (SSE2), AVX2 and AVX-512 and chosen at
+// run time (simd.h). Every float operation is the reference's, in the same order, and the
+// library builds with -ffp-contract=off (no fused multiply-add), so every level gives the same
+// bits as the reference.
 #include <body_scan_driver/stripe_decoder.h>
 #include <immintrin.h>
 
@@ -29,8 +31,7 @@
 namespace body_scan {
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr uint32_t kNaNBits = 0x7FC00000u;  // kNaN
+constexpr uint32_t kNaNBits = 0x7FC00000u;  // the reference's quiet_NaN()
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 // Inputs and outputs of the integer pass over one pattern set.
