@@ -317,14 +317,14 @@ inline float clampLikeStd(float value, float low, float high) {
 // reference's step() as selects over SoA state, evaluated for all columns and kept where the
 // stripe id changed. A run is rewritten when its closing boundary arrives; runs longer than
 // kVectorRun pixels are left to the scalar step (needs_scalar), which also keeps their state.
-constexpr int kVectorRun = 3;
+constexpr int kVectorRun = 4;
 
 struct WalkRow {
   const uint16_t* current;        // stripe ids of row `position`
   const uint16_t* last;           // ... and of the row before
   const int16_t* signal_before;   // the flipped bit's signal above and at the boundary (where
   const int16_t* signal_here;     // the stripe id changed by one; anything elsewhere)
-  float* coordinate[kVectorRun];  // rows position - 1, -2, -3 (a spare row where < 0)
+  float* coordinate[kVectorRun];  // rows position - 1 ... - kVectorRun (spares where < 0)
   int32_t* segment_start;
   int32_t* previous_valid;
   float* previous_position;
@@ -531,12 +531,13 @@ void StripeDecoder::interpolateBoundariesFast(const FrameRows& frame_rows, Strip
   uint64_t* bits = changed_bits_.data();
   if (kAlongRows) {
     // Per column state as arrays (WalkRow), the flipped bit's signals, two spare rows.
-    walk_floats_.assign(5 * static_cast<size_t>(cols), 0.f);
+    walk_floats_.assign((3 + kVectorRun - 1) * static_cast<size_t>(cols), 0.f);
     walk_ints_.assign(3 * static_cast<size_t>(cols), 0);
     float* previous_position = walk_floats_.data();
     float* previous_coordinate = previous_position + cols;
     float* stripe_width = previous_coordinate + cols;
-    float* spare_rows[2] = {stripe_width + cols, stripe_width + 2 * cols};
+    float* spare_rows[kVectorRun - 1];  // stand-ins for the rows above row 0
+    for (int k = 0; k < kVectorRun - 1; ++k) spare_rows[k] = stripe_width + (k + 1) * cols;
     const size_t pixels = static_cast<size_t>(cols) * rows;
     const int16_t* flips_before = flip_signals_.data();
     const int16_t* flips_here = flips_before + pixels;
