@@ -94,6 +94,33 @@ BODY_SCAN_ALWAYS_INLINE void prepareRow(const IntegerPass& pass, int r, uint8_t*
   }
 }
 
+// Per pixel, the signals (row above, this row) of the bit set in flipped_bits. Where exactly one
+// bit is set (the only pixels the walk reads: stripe ids one apart) OR-ing the masked signals of
+// all bits selects it. The bit count is a constant so that the bit loop unrolls and the pixel
+// loop vectorizes.
+template <int kBits>
+BODY_SCAN_ALWAYS_INLINE void selectFlippedSignals(int cols, size_t width,
+                                                  const int16_t* __restrict flipped_bits,
+                                                  const int16_t* __restrict signals,
+                                                  const int16_t* __restrict signals_above,
+                                                  int16_t* __restrict before,
+                                                  int16_t* __restrict here) {
+  constexpr int bits = kBits;
+  for (int u = 0; u < cols; ++u) {
+    int16_t signal_above = 0, signal = 0;
+#pragma GCC unroll 10
+    for (int bit = 0; bit < bits; ++bit) {
+      const int16_t bit_mask = static_cast<int16_t>(1 << (bits - 1 - bit));
+      const int16_t selected = static_cast<int16_t>(-((flipped_bits[u] & bit_mask) != 0));
+      signal_above =
+          static_cast<int16_t>(signal_above | (signals_above[bit * width + u] & selected));
+      signal = static_cast<int16_t>(signal | (signals[bit * width + u] & selected));
+    }
+    before[u] = signal_above;
+    here[u] = signal;
+  }
+}
+
 template <typename Code>
 BODY_SCAN_ALWAYS_INLINE void integerPassCoded(const IntegerPass& pass) {
   const int cols = pass.cols, rows = pass.rows;
@@ -182,21 +209,25 @@ BODY_SCAN_ALWAYS_INLINE void integerPassCoded(const IntegerPass& pass) {
       if (v > 0) {
         int16_t* __restrict before = pass.flip_before + static_cast<size_t>(v) * cols;
         int16_t* __restrict here = pass.flip_here + static_cast<size_t>(v) * cols;
-        for (int u = 0; u < cols; ++u) {
-          before[u] = 0;
-          here[u] = 0;
-        }
         // 16-bit lanes throughout (x86 has no byte shifts).
         for (int u = 0; u < cols; ++u)
           flipped_bits[u] = static_cast<int16_t>(code[u] ^ code_above[u]);
-        for (int bit = 0; bit < pass.bits; ++bit) {
-          const int16_t bit_mask = static_cast<int16_t>(1 << (pass.bits - 1 - bit));
-          const int16_t* __restrict signal = signals + bit * width;
-          const int16_t* __restrict signal_above = signals_above + bit * width;
-          for (int u = 0; u < cols; ++u) {  // selects as bit operations: vectorize everywhere
-            const int16_t flips = static_cast<int16_t>(-((flipped_bits[u] & bit_mask) != 0));
-            before[u] = static_cast<int16_t>((signal_above[u] & flips) | (before[u] & ~flips));
-            here[u] = static_cast<int16_t>((signal[u] & flips) | (here[u] & ~flips));
+        if (pass.bits == 8) {  // the default: a constant bit count unrolls, the pixels vectorize
+          selectFlippedSignals<8>(cols, width, flipped_bits, signals, signals_above, before, here);
+        } else {  // one vectorized pass per bit
+          for (int u = 0; u < cols; ++u) {
+            before[u] = 0;
+            here[u] = 0;
+          }
+          for (int bit = 0; bit < pass.bits; ++bit) {
+            const int16_t bit_mask = static_cast<int16_t>(1 << (pass.bits - 1 - bit));
+            const int16_t* __restrict signal = signals + bit * width;
+            const int16_t* __restrict signal_above = signals_above + bit * width;
+            for (int u = 0; u < cols; ++u) {
+              const int16_t selected = static_cast<int16_t>(-((flipped_bits[u] & bit_mask) != 0));
+              before[u] = static_cast<int16_t>(before[u] | (signal_above[u] & selected));
+              here[u] = static_cast<int16_t>(here[u] | (signal[u] & selected));
+            }
           }
         }
       }
