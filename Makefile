@@ -11,7 +11,8 @@
 #   make build   configure + build all packages into build/
 #   make test    build + run every gtest/rostest; last line: "N passed, N failed[, N skipped]"
 #   make demo    build + scripts/demo.sh
-#   make bench   build + run every build/devel/lib/*/bench_* (JSON into build/bench/)
+#   make bench   build + run every build/devel/lib/*/bench_* (JSON into build/bench/);
+#                BENCH_ARGS="..." is passed to each (e.g. --benchmark_filter=plane/hot)
 #   make format  clang-format -i every C++ file of the packages
 #   make clean   remove build/
 
@@ -22,6 +23,7 @@ MAKEFLAGS += --no-print-directory
 PY        := /usr/bin/python3
 BUILD_DIR := $(CURDIR)/build
 JOBS      ?= 2
+BENCH_ARGS ?=
 CMAKE_BUILD_TYPE ?= Release
 
 # Debian packages the whole suite needs to build, test, run the demo and the benchmarks:
@@ -120,9 +122,10 @@ test: deps
 demo: build
 	bash scripts/demo.sh
 
-# bench: build, then run every Google Benchmark executable build/devel/lib/<pkg>/bench_*,
-# printing its console table and saving JSON to build/bench/<name>.json, then the ratios of
-# each peer to our implementation (scripts/bench_report.py -> build/bench/report.txt).
+# bench: build, then run every Google Benchmark executable build/devel/lib/<pkg>/bench_*
+# (with $(BENCH_ARGS)), printing its console table and saving JSON to build/bench/<name>.json,
+# then the medians and the ratios of each peer to our implementation (scripts/bench_report.py
+# -> build/bench/report.txt).
 bench: build
 	@mkdir -p $(BUILD_DIR)/bench; \
 	found=0; \
@@ -131,7 +134,7 @@ bench: build
 	  found=1; name=$$(basename "$$exe"); \
 	  echo "== $$name"; \
 	  "$$exe" --benchmark_out=$(BUILD_DIR)/bench/$$name.json --benchmark_out_format=json \
-	    || exit 1; \
+	    $(BENCH_ARGS) || exit 1; \
 	done; \
 	if [ $$found -eq 0 ]; then echo "no bench_* executables under build/devel/lib/*/"; exit 1; fi; \
 	echo "== ratios against ours (also in build/bench/report.txt)"; \

@@ -3,12 +3,17 @@
 //   .../ours                 our decoder (shadow mask, bits, subpixel) + triangulation
 //   .../opencv_getProjPixel  OpenCV structured_light decoding the same frames (no subpixel,
 //                            no triangulation)
+//   .../ours_reference       the same with DecoderParams::Implementation::kReference
 //   .../copy                 a plain copy of the same bytes (the memory-bound floor)
+//   .../triangulate_only     our triangulation alone (hot only)
+//   .../read_frames_write_outputs  read every frame byte and write every output byte (stripe
+//                            ids, coordinates, the 4-float cloud): the floor for any decoder
+//                            with our outputs
 // Scenes: "plane" fills the view (every pixel decodes: the worst case); "person" is the
 // single_pair scene. Cache: "hot" repeats one set (it stays in cache); "stream" cycles through
 // 8 sets (44 MB, more than the last-level cache), as pattern sets arriving from a camera do.
-// RenderPatternSet times the virtual pair (2 threads). scripts/bench_report.py prints the
-// ratios against .../ours.
+// RenderPatternSet times the virtual pair (2 threads). Every case runs kRepetitions times;
+// scripts/bench_report.py takes the medians and prints the ratios against .../ours.
 #include <benchmark/benchmark.h>
 #include <body_scan_driver/pair_device.h>
 #include <body_scan_driver/sim/virtual_pair.h>
@@ -25,6 +30,7 @@ using namespace body_scan;
 namespace {
 
 constexpr int kStreamSets = 8;
+constexpr int kRepetitions = 5;
 
 struct SceneSets {
   std::unique_ptr<sim::VirtualPair> pair;
@@ -60,10 +66,12 @@ const SceneSets& scene(const std::string& name) {
 int setCount(const benchmark::State& state) { return state.range(1) ? kStreamSets : 1; }
 const char* sceneName(const benchmark::State& state) { return state.range(0) ? "person" : "plane"; }
 
-void ours(benchmark::State& state) {
+void decodeTriangulate(benchmark::State& state, DecoderParams::Implementation implementation) {
   cv::setNumThreads(1);
   const SceneSets& s = scene(sceneName(state));
-  const StripeDecoder decoder(s.pair->layout());
+  DecoderParams params;
+  params.implementation = implementation;
+  const StripeDecoder decoder(s.pair->layout(), params);
   const Triangulator triangulator(s.pair->factoryCalibration());
   StripeImage stripes;
   std::vector<float> cloud(640 * 480 * 4);
@@ -74,6 +82,28 @@ void ours(benchmark::State& state) {
     benchmark::DoNotOptimize(cloud.data());
   }
   state.counters["points"] = static_cast<double>(valid);
+}
+
+void ours(benchmark::State& state) {
+  decodeTriangulate(state, DecoderParams::Implementation::kFast);
+  state.SetLabel(simdLevelName(detectedSimdLevel()));
+}
+
+// Our triangulation alone (the set decoded once before timing), for the roofline.
+void triangulateOnly(benchmark::State& state) {
+  const SceneSets& s = scene(sceneName(state));
+  StripeImage stripes;
+  StripeDecoder(s.pair->layout()).decode(s.sets[0], stripes);
+  const Triangulator triangulator(s.pair->factoryCalibration());
+  std::vector<float> cloud(640 * 480 * 4);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(triangulator.triangulate(stripes.coordinate, cloud.data(), 4));
+    benchmark::ClobberMemory();
+  }
+}
+
+void oursReference(benchmark::State& state) {
+  decodeTriangulate(state, DecoderParams::Implementation::kReference);
 }
 
 void opencvGetProjPixel(benchmark::State& state) {
@@ -115,6 +145,31 @@ void copy(benchmark::State& state) {
   }
 }
 
+void readFramesWriteOutputs(benchmark::State& state) {
+  const SceneSets& s = scene(sceneName(state));
+  const size_t pixels = 640 * 480;
+  cv::Mat1w stripe(480, 640);
+  cv::Mat1f coordinate(480, 640);
+  std::vector<float> cloud(pixels * 4);
+  size_t next = 0;
+  for (auto _ : state) {
+    const std::vector<cv::Mat>& frames = s.sets[next++ % setCount(state)];
+    uint8_t any = 0;  // every byte is read (the OR cannot stop early) ...
+    for (const cv::Mat& frame : frames) {
+      const uint8_t* bytes = frame.data;
+      for (size_t i = 0; i < pixels; ++i) any |= bytes[i];
+    }
+    // ... and every output byte written, with a value that depends on what was read.
+    std::fill_n(stripe.ptr<uint16_t>(), pixels, static_cast<uint16_t>(any));
+    std::fill_n(coordinate.ptr<float>(), pixels, static_cast<float>(any));
+    std::fill(cloud.begin(), cloud.end(), static_cast<float>(any));
+    benchmark::DoNotOptimize(stripe.data);
+    benchmark::DoNotOptimize(coordinate.data);
+    benchmark::DoNotOptimize(cloud.data());
+    benchmark::ClobberMemory();
+  }
+}
+
 void render(benchmark::State& state) {
   cv::setNumThreads(2);
   const SceneSets& s = scene(sceneName(state));
@@ -127,16 +182,19 @@ void registerAll() {
     for (int stream : {0, 1}) {
       const std::string group = std::string("DecodeTriangulate/") + (person ? "person" : "plane") +
                                 (stream ? "/stream" : "/hot");
-      benchmark::RegisterBenchmark((group + "/ours").c_str(), ours)
-          ->Args({person, stream})
-          ->Unit(benchmark::kMillisecond);
-      benchmark::RegisterBenchmark((group + "/opencv_getProjPixel").c_str(), opencvGetProjPixel)
-          ->Args({person, stream})
-          ->Unit(benchmark::kMillisecond)
-          ->Iterations(16);
-      benchmark::RegisterBenchmark((group + "/copy").c_str(), copy)
-          ->Args({person, stream})
-          ->Unit(benchmark::kMillisecond);
+      auto add = [&](const char* name, void (*function)(benchmark::State&)) {
+        return benchmark::RegisterBenchmark((group + "/" + name).c_str(), function)
+            ->Args({person, stream})
+            ->Unit(benchmark::kMillisecond)
+            ->Repetitions(kRepetitions)
+            ->ReportAggregatesOnly(true);
+      };
+      add("ours", ours);
+      add("ours_reference", oursReference);
+      add("opencv_getProjPixel", opencvGetProjPixel)->Iterations(16);
+      add("copy", copy);
+      add("read_frames_write_outputs", readFramesWriteOutputs);
+      if (!stream) add("triangulate_only", triangulateOnly);
     }
   for (int person : {0, 1})
     benchmark::RegisterBenchmark(person ? "RenderPatternSet/person" : "RenderPatternSet/plane",
@@ -144,7 +202,9 @@ void registerAll() {
         ->Args({person, 0})
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
-        ->Iterations(10);
+        ->Iterations(10)
+        ->Repetitions(3)
+        ->ReportAggregatesOnly(true);
 }
 
 }  // namespace

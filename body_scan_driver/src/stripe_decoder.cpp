@@ -7,6 +7,8 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "stripe_decoder_internal.h"
+
 namespace body_scan {
 namespace {
 
@@ -28,19 +30,6 @@ struct LineState {
 };
 
 }  // namespace
-
-// Row-major byte pointers of the frames a bit decision reads. The signed bit signal is
-// pattern - inverse, or 2 pattern - (lit + dark) without inverse frames: its sign is the bit
-// and its zero crossing the stripe edge.
-struct StripeDecoder::FrameRows {
-  std::vector<const uint8_t*> pattern, inverse;
-  const uint8_t *lit, *dark;
-  size_t step;
-  int signal(int bit, size_t index) const {
-    if (!inverse.empty()) return pattern[bit][index] - inverse[bit][index];
-    return 2 * pattern[bit][index] - lit[index] - dark[index];
-  }
-};
 
 void checkFrames(const PatternLayout& layout, const std::vector<cv::Mat>& frames) {
   if (static_cast<int>(frames.size()) != layout.frameCount())
@@ -81,6 +70,10 @@ void StripeDecoder::decode(const std::vector<cv::Mat>& frames, StripeImage& out)
   for (int bit = 0; bit < layout_.bits(); ++bit) {
     rows.pattern.push_back(frames[layout_.patternFrame(bit)].data);
     if (layout_.inverseFrames()) rows.inverse.push_back(frames[layout_.inverseFrame(bit)].data);
+  }
+  if (params_.implementation == DecoderParams::Implementation::kFast) {
+    decodeFast(frames, rows, out);
+    return;
   }
   decodeIntegers(frames, rows, out);
   if (!params_.subpixel) return;

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <opencv2/structured_light/graycodepattern.hpp>
 
 #include "sim_fixtures.h"
@@ -152,4 +154,88 @@ TEST(StripeDecoder, RejectsBadFrameSetsWithClearErrors) {
   EXPECT_THROW(decoder.decode(frames, image), std::invalid_argument);
   frames.back() = cv::Mat(240, 320, CV_8UC1);
   EXPECT_THROW(decoder.decode(frames, image), std::invalid_argument);
+}
+
+namespace {
+
+// Pixels where two decodings differ in stripe id or in the coordinate's bits (NaN == NaN).
+long differingPixels(const StripeImage& a, const StripeImage& b) {
+  long differing = 0;
+  for (int v = 0; v < a.stripe.rows; ++v)
+    for (int u = 0; u < a.stripe.cols; ++u) {
+      const float x = a.coordinate(v, u), y = b.coordinate(v, u);
+      differing += a.stripe(v, u) != b.stripe(v, u) || std::memcmp(&x, &y, sizeof x) != 0;
+    }
+  return differing;
+}
+
+std::shared_ptr<sim::Scene> personScene() {
+  return std::make_shared<sim::Scene>(
+      sim::loadScene(std::filesystem::path(__FILE__).parent_path().string() +
+                     "/../config/scenes/standing_person.yaml"));
+}
+
+sim::VirtualPairConfig defaultPair() {
+  return sim::loadVirtualPairConfig(std::filesystem::path(__FILE__).parent_path().string() +
+                                    "/../config/pairs/default_pair.yaml");
+}
+
+// kFast at every SIMD level this CPU has must reproduce kReference bit for bit.
+void expectFastEqualsReference(const sim::VirtualPair& pair, const sim::RenderedPatternSet& set,
+                               DecoderParams params, const std::string& what) {
+  params.implementation = DecoderParams::Implementation::kReference;
+  StripeImage reference;
+  StripeDecoder(pair.layout(), params).decode(set.frames, reference);
+  long valid = 0;
+  for (int v = 0; v < reference.stripe.rows; ++v)
+    for (int u = 0; u < reference.stripe.cols; ++u)
+      valid += reference.stripe(v, u) != kInvalidStripe;
+  EXPECT_GT(valid, 10000) << what;  // the comparison covers real decoded surfaces
+  params.implementation = DecoderParams::Implementation::kFast;
+  for (SimdLevel level : availableSimdLevels()) {
+    params.max_simd = level;
+    const StripeDecoder decoder(pair.layout(), params);
+    StripeImage fast;
+    for (int repeat = 0; repeat < 2; ++repeat) {  // the second call reuses every buffer
+      decoder.decode(set.frames, fast);
+      EXPECT_EQ(differingPixels(reference, fast), 0)
+          << what << ", " << simdLevelName(level) << ", call " << repeat;
+    }
+  }
+}
+
+}  // namespace
+
+TEST(StripeDecoder, FastImplementationIsBitIdenticalToReference) {
+  std::cout << "[ figure ] SIMD levels tested:";
+  for (SimdLevel level : availableSimdLevels()) std::cout << " " << simdLevelName(level);
+  std::cout << "\n";
+  for (bool inverse : {true, false}) {
+    auto plane_config = test::pairLookingAlongX();
+    plane_config.inverse_frames = inverse;
+    const sim::VirtualPair plane(plane_config, test::planeScene(1.0));
+    const sim::RenderedPatternSet plane_set = plane.render(17);
+    const std::string inverse_text = inverse ? " with inverses" : " without inverses";
+    expectFastEqualsReference(plane, plane_set, {}, "plane" + inverse_text);
+    DecoderParams across;  // the other walk direction: lines along image rows
+    across.axis = DecoderParams::StripeAxis::kAlongColumns;
+    expectFastEqualsReference(plane, plane_set, across, "plane, walk along rows" + inverse_text);
+    DecoderParams integer;
+    integer.subpixel = false;
+    expectFastEqualsReference(plane, plane_set, integer, "plane, no subpixel" + inverse_text);
+
+    auto person_config = defaultPair();
+    person_config.inverse_frames = inverse;
+    const sim::VirtualPair person(person_config, personScene());
+    expectFastEqualsReference(person, person.render(23), {}, "person" + inverse_text);
+  }
+  // 10 bits (16-bit codes) and the filters switched off.
+  auto config = test::pairLookingAlongX();
+  config.bits = 10;
+  const sim::VirtualPair ten_bits(config, test::planeScene(1.2, 0.3));
+  DecoderParams unfiltered;
+  unfiltered.edge_contrast_ratio = 0;
+  unfiltered.min_bright_neighbours = 0;
+  unfiltered.min_contrast = 0;
+  expectFastEqualsReference(ten_bits, ten_bits.render(29), unfiltered, "10 bits, unfiltered");
 }

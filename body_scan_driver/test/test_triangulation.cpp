@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
 
 #include "sim_fixtures.h"
 #include "sphere_fit.h"
@@ -82,4 +85,51 @@ TEST(Triangulation, RejectsAStripeImageOfTheWrongSize) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("640x480"), std::string::npos) << e.what();
   }
+}
+
+namespace {
+
+// Every SIMD level must write the floats of the SSE2 baseline and nothing else.
+void expectSimdLevelsAgree(const sim::VirtualPair& pair, StripeImage& image, size_t min_valid,
+                           const std::string& what) {
+  for (int v = 0; v < image.coordinate.rows; v += 7)  // some invalid pixels too
+    image.coordinate(v, v % image.coordinate.cols) = std::numeric_limits<float>::quiet_NaN();
+  for (size_t stride : {size_t{4}, size_t{3}}) {
+    const size_t floats = stride * image.coordinate.total() + 1;
+    std::vector<float> expected(floats, 42.f);
+    const size_t expected_valid =
+        Triangulator(pair.factoryCalibration(), 0.2, 5.0, SimdLevel::kSse2)
+            .triangulate(image.coordinate, expected.data(), stride);
+    EXPECT_GT(expected_valid, min_valid) << what;
+    // The 4th float of stride-4 points and the float after the last point stay untouched.
+    for (size_t i = 3; stride == 4 && i < floats; i += stride)
+      ASSERT_EQ(expected[i], 42.f) << what << ": field " << i << " overwritten";
+    ASSERT_EQ(expected.back(), 42.f) << what;
+    for (SimdLevel level : availableSimdLevels()) {
+      std::vector<float> points(floats, 42.f);
+      EXPECT_EQ(Triangulator(pair.factoryCalibration(), 0.2, 5.0, level)
+                    .triangulate(image.coordinate, points.data(), stride),
+                expected_valid)
+          << what;
+      EXPECT_EQ(std::memcmp(points.data(), expected.data(), floats * sizeof(float)), 0)
+          << what << ", " << simdLevelName(level) << ", stride " << stride;
+    }
+  }
+}
+
+}  // namespace
+
+TEST(Triangulation, EverySimdLevelGivesTheSameFloatsAndKeepsOtherFields) {
+  // A plane filling the view (one plane along most rows) and the person (planes change along
+  // rows on the curved body), both with scattered invalid pixels; strides 4 and 3.
+  const sim::VirtualPair plane(test::pairLookingAlongX(), test::planeScene(1.0));
+  StripeImage image;
+  StripeDecoder(plane.layout()).decode(plane.render(31).frames, image);
+  expectSimdLevelsAgree(plane, image, 300000, "plane");
+  const std::string config = std::filesystem::path(__FILE__).parent_path().string() + "/../config";
+  const sim::VirtualPair person(
+      sim::loadVirtualPairConfig(config + "/pairs/default_pair.yaml"),
+      std::make_shared<sim::Scene>(sim::loadScene(config + "/scenes/standing_person.yaml")));
+  StripeDecoder(person.layout()).decode(person.render(37).frames, image);
+  expectSimdLevelsAgree(person, image, 100000, "person");
 }

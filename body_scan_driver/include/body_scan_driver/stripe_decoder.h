@@ -5,6 +5,7 @@
 #pragma once
 
 #include <body_scan_driver/gray_code.h>
+#include <body_scan_driver/simd.h>
 
 #include <cstdint>
 #include <opencv2/core/mat.hpp>
@@ -34,6 +35,14 @@ struct DecoderParams {
   StripeAxis axis = StripeAxis::kAuto;
   // A stripe wider than this (pixels) between two boundaries is not interpolated.
   int max_stripe_width_px = 40;
+  // kReference: the plain scalar formulation below, kept as the specification and the test
+  // oracle. kFast: the same computation as three vectorized row passes (integer pass,
+  // boundary flags, subpixel work only at flagged pixels); bit-identical output (stripe id,
+  // coordinate, mask), asserted by test_stripe_decoder for every SIMD level.
+  enum class Implementation { kReference, kFast };
+  Implementation implementation = Implementation::kFast;
+  // Highest instruction set kFast may use; it falls back to what the CPU supports.
+  SimdLevel max_simd = SimdLevel::kAvx512;
 };
 
 struct StripeImage {
@@ -64,12 +73,31 @@ class StripeDecoder {
   void countBrightNeighbours() const;
   uint16_t breakTies(const FrameRows& rows, uint16_t code, size_t index, int u, int v, int cols,
                      int rows_count) const;
+  // kFast (stripe_decoder_fast.cpp).
+  void decodeFast(const std::vector<cv::Mat>& frames, const FrameRows& rows,
+                  StripeImage& out) const;
+  template <bool kAlongRows>
+  void interpolateBoundariesFast(const FrameRows& rows, StripeImage& out, SimdLevel level) const;
+  // Boundary walk state of one line (a column when stripes change along rows).
+  struct LineWalk {
+    int segment_start = 0;  // first pixel of the current run of one stripe id
+    float previous_position = 0, previous_coordinate = 0;
+    bool previous_valid = false;
+    float stripe_width = 0;  // pixels between the last two boundaries, 0 = unknown
+  };
 
   PatternLayout layout_;
   DecoderParams params_;
   int edge_ratio_q8_;                 // edge_contrast_ratio in 1/256 units
   std::vector<uint8_t> bit_between_;  // stripe k -> the bit that flips between k and k+1
   mutable cv::Mat contrast_, neighbourhood_max_, bright_, horizontal_sum_, bright_around_;
+  mutable std::vector<uint8_t> fast_rows_;      // kFast: rolling contrast and 3x3 rows
+  mutable std::vector<uint32_t> tied_pixels_;   // kFast: valid pixels with a tied bit
+  mutable std::vector<uint64_t> changed_bits_;  // kFast: boundary flags of one row
+  mutable std::vector<LineWalk> line_walks_;    // kFast: one per line
+  mutable std::vector<float> walk_floats_;      // kFast: the same as arrays (lines = columns)
+  mutable std::vector<int32_t> walk_ints_;
+  mutable std::vector<int16_t> flip_signals_;  // kFast: per pixel, see IntegerPass
 };
 
 // Throws std::invalid_argument unless frames match the layout (count, type, equal sizes).
