@@ -144,6 +144,25 @@ Eigen::Matrix3d wholeBodyRotation(const PoseVector& p) {
          jointRotation(p[3], p[5]);
 }
 
+Eigen::Vector2d jointAnglesForDirection(const Eigen::Vector3d& direction, bool points_up) {
+  const Eigen::Vector3d d = direction.normalized();
+  // Rx(x) Rz(z) (0, +-1, 0) = +-(-sin z, cos z cos x, cos z sin x).
+  if (points_up) return {std::atan2(d.z(), d.y()), -std::asin(std::clamp(d.x(), -1.0, 1.0))};
+  return {std::atan2(-d.z(), -d.y()), std::asin(std::clamp(d.x(), -1.0, 1.0))};
+}
+
+PoseVector poseVectorFromFrame(const Eigen::Vector3d& origin, const Eigen::Matrix3d& rotation) {
+  // rotation = upright * Ry(a) Rx(b) Rz(c); M = Ry Rx Rz has row 1 = (cb sc, cb cc, -sb) and
+  // column 2 = (sa cb, -sb, ca cb).
+  const Eigen::Matrix3d m = wholeBodyRotation(PoseVector::Zero()).transpose() * rotation;
+  PoseVector p;
+  p.head<3>() = origin;
+  p[3] = std::asin(std::clamp(-m(1, 2), -1.0, 1.0));
+  p[4] = std::atan2(m(0, 2), m(2, 2));
+  p[5] = std::atan2(m(1, 0), m(1, 1));
+  return p;
+}
+
 PosedModel forwardKinematics(const BodyModel& model) {
   PosedModel posed;
   posed.whole_body = transform(model.p.head<3>(), wholeBodyRotation(model.p));

@@ -103,6 +103,27 @@ TEST(KinematicModel, WholeBodyRotationIsRightHandedAndMatchesHeading) {
   }
 }
 
+TEST(KinematicModel, DirectionsAndFramesInvertForwardKinematics) {
+  BodyModel model = standingModel(1.7);
+  model.p << 0.3, -0.1, 1.0, 0.05, 2.8, -0.04;
+  model.setJointAngles(kHead, 0.3, -0.2);
+  model.setJointAngles(kLeftUpperLeg, -0.5, 0.1);
+  const PosedModel posed = forwardKinematics(model);
+  const PoseVector p =
+      poseVectorFromFrame(posed.whole_body.translation(), posed.whole_body.linear());
+  EXPECT_LT((p - model.p).norm(), 1e-12) << p.transpose();
+  for (int segment : {kHead, kLeftUpperLeg}) {
+    const PosedSegment& child = posed.segments[segment];
+    const int parent = segmentInfo(segment).parent;
+    const Eigen::Vector3d direction = posed.segments[parent].frame.linear().transpose() *
+                                      (child.distal - child.proximal).normalized();
+    const Eigen::Vector2d angles =
+        jointAnglesForDirection(direction, segmentInfo(segment).points_up);
+    EXPECT_NEAR(angles[0], model.thetaX(segment), 1e-12) << segmentInfo(segment).name;
+    EXPECT_NEAR(angles[1], model.thetaZ(segment), 1e-12) << segmentInfo(segment).name;
+  }
+}
+
 TEST(KinematicModel, JointLimitsOfTable52AreEnforced) {
   const JointLimits arm = jointLimits(kRightUpperArm);
   EXPECT_DOUBLE_EQ(arm.x_max, kPi / 6);

@@ -105,6 +105,14 @@ struct PosedModel {
   Eigen::Vector3d joint(const std::string& name) const;
 };
 
+// Joint angles (theta_x, theta_z) that point a segment along direction (unit, in its parent's
+// frame): the inverse of the Rx * Rz convention above for a +Y or -Y cylinder.
+Eigen::Vector2d jointAnglesForDirection(const Eigen::Vector3d& direction, bool points_up);
+
+// p (eq 5.1) of a whole-body frame at origin with the given model-to-world rotation (columns
+// X_m, Y_m, Z_m); inverse of wholeBodyRotation.
+PoseVector poseVectorFromFrame(const Eigen::Vector3d& origin, const Eigen::Matrix3d& rotation);
+
 // Forward kinematics of the tree (Table 5.2 parents).
 PosedModel forwardKinematics(const BodyModel& model);
 

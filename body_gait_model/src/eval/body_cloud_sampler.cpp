@@ -129,3 +129,68 @@ Eigen::Vector3d trueJoint(const SampledBody& body, const std::string& name) {
 }
 
 }  // namespace body_gait::eval
+
+namespace body_gait::eval {
+
+FitErrors compareWithTruth(const BodyModel& model, const SampledBody& body) {
+  const PosedModel posed = forwardKinematics(model);
+  const sim::Anthropometry& b = body.spec.body;
+  auto truth = [&](const std::string& name) { return trueJoint(body, name); };
+  // The model's lower leg ends at the sole: ankle_height below the ankle along the shank.
+  auto trueSole = [&](const std::string& side) {
+    const Eigen::Vector3d knee = truth(side + "_knee"), ankle = truth(side + "_ankle");
+    return Eigen::Vector3d(ankle + b.ankle_height * (ankle - knee).normalized());
+  };
+  FitErrors errors;
+  for (const std::string side : {"left", "right"}) {
+    for (const std::string joint : {"shoulder", "elbow", "hand_tip", "hip", "knee"})
+      errors.joint_error[side + "_" + joint] =
+          (posed.joint(side + "_" + joint) - truth(side + "_" + joint)).norm();
+    errors.joint_error[side + "_sole"] = (posed.joint(side + "_sole") - trueSole(side)).norm();
+  }
+  errors.joint_error["head_top"] = (posed.joint("head_top") - truth("head_top")).norm();
+
+  const double heading = body.spec.pose.heading;
+  const Eigen::Vector3d front(std::cos(heading), std::sin(heading), 0);
+  const Eigen::Vector3d left(-std::sin(heading), std::cos(heading), 0);
+  auto swing = [&](const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
+    const Eigen::Vector3d d = to - from;
+    return std::atan2(d.dot(front), -d.z());  // forward swing from hanging straight down
+  };
+  const struct {
+    const char* segment;
+    const char* from;
+    const char* to;
+  } kLimbSegments[] = {{"upper_arm", "shoulder", "elbow"},
+                       {"lower_arm", "elbow", "hand_tip"},
+                       {"upper_leg", "hip", "knee"},
+                       {"lower_leg", "knee", "sole"}};
+  for (const std::string side : {"left", "right"}) {
+    for (const auto& limb : kLimbSegments) {
+      const std::string from = side + "_" + limb.from, to = side + "_" + limb.to;
+      const Eigen::Vector3d true_from = truth(from);
+      const Eigen::Vector3d true_to = std::string(limb.to) == "sole" ? trueSole(side) : truth(to);
+      const double true_length = (true_to - true_from).norm();
+      const double fitted_length = (posed.joint(to) - posed.joint(from)).norm();
+      const std::string name = side + "_" + limb.segment;
+      errors.segment_length_error[name] = std::abs(fitted_length - true_length) / true_length;
+      errors.swing_error[name] = std::abs(std::remainder(
+          swing(posed.joint(from), posed.joint(to)) - swing(true_from, true_to), 2 * kPi));
+    }
+  }
+  auto average = [](const std::map<std::string, double>& values) {
+    double sum = 0;
+    for (const auto& [name, value] : values) sum += value;
+    return values.empty() ? 0.0 : sum / values.size();
+  };
+  errors.mean_joint_error = average(errors.joint_error);
+  errors.mean_length_error = average(errors.segment_length_error);
+  errors.mean_swing_error = average(errors.swing_error);
+  const Eigen::Matrix3d rotation = posed.whole_body.linear();
+  errors.front_right = rotation.col(2).dot(front) > std::cos(kPi / 4);
+  errors.left_right = (posed.joint("left_hip") - posed.joint("right_hip")).dot(left) > 0 &&
+                      (posed.joint("left_shoulder") - posed.joint("right_shoulder")).dot(left) > 0;
+  return errors;
+}
+
+}  // namespace body_gait::eval

@@ -4,10 +4,12 @@
 // Only this library reads the simulator's ground truth (the true skeleton).
 #pragma once
 
+#include <body_gait_model/kinematic_model.h>
 #include <body_scan_driver/sim/human_body.h>
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -48,5 +50,21 @@ std::vector<body_scan::sim::HumanBodySpec> simulatedSubjects(int count);
 
 // Position of a named joint of the true skeleton; throws std::invalid_argument if absent.
 Eigen::Vector3d trueJoint(const SampledBody& body, const std::string& name);
+
+}  // namespace body_gait::eval
+
+namespace body_gait::eval {
+
+// Errors of a fitted model against the simulator's true skeleton (evaluation only).
+struct FitErrors {
+  std::map<std::string, double> joint_error;           // m, per joint name (PosedModel names)
+  std::map<std::string, double> segment_length_error;  // fraction, per limb segment name
+  std::map<std::string, double> swing_error;           // rad, upper/lower arms and legs
+  double mean_joint_error = 0, mean_length_error = 0, mean_swing_error = 0;
+  bool front_right = false;  // fitted front within 45 degrees of the true heading
+  bool left_right = false;   // the fitted left arm/leg is the subject's left (true left side)
+};
+
+FitErrors compareWithTruth(const BodyModel& model, const SampledBody& body);
 
 }  // namespace body_gait::eval

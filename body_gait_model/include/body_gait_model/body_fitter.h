@@ -1,0 +1,64 @@
+// Fitting the kinematic model to a whole-body cloud (thesis 5.5): body axes (5.5.1), torso
+// (5.5.2), arms and legs by line fitting (5.5.3, eqs 5.9-5.10), head and neck (5.5.4), then fit
+// quality. The fitter sees only the cloud: no simulator, no ground truth.
+#pragma once
+
+#include <body_gait_model/body_axes.h>
+#include <body_gait_model/kinematic_model.h>
+#include <body_gait_model/torso_fit.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace body_gait {
+
+struct FitQualityOptions {
+  double explained_distance = 0.025;  // a point is explained within this of the model surface
+  double min_explained_fraction = 0.85;
+  double max_rms = 0.03;                 // m
+  int min_points_per_limb_segment = 50;  // arms, legs
+};
+
+struct FitOptions {
+  BodyAxesOptions axes;
+  TorsoOptions torso;
+  FitQualityOptions quality;
+  double limb_track_radius = 0.06;  // m: an arm's next slice lies within this of its centre
+  // Hip joint centres above the lowest point, * body height (Drillis & Contini: 0.53). They lie
+  // inside the pelvis, so the surface alone does not show them; the thigh line gives x and z.
+  double hip_height = 0.53;
+};
+
+struct FitQuality {
+  double rms_distance = 0;        // RMS point-to-model-surface distance (m), all points
+  double explained_fraction = 0;  // points within explained_distance of the surface
+  std::array<int, kSegmentCount> points_per_segment{};  // nearest-segment assignment
+  bool low_quality = false;
+  std::string reason;  // why it is low quality (empty if not)
+};
+
+// Joint points found directly by the line fits (world frame), before the model's tree imposes
+// symmetric shoulders and hips. Named like PosedModel::joint.
+struct JointPoint {
+  std::string name;
+  Eigen::Vector3d position;
+};
+
+struct BodyFit {
+  BodyModel model;
+  BodyAxes axes;
+  TorsoFit torso;
+  std::vector<JointPoint> joint_points;
+  FitQuality quality;
+};
+
+// Throws std::invalid_argument naming the problem when the cloud cannot be fitted (too few
+// points, no torso profile). Anything fitted but implausible comes back with low_quality set.
+BodyFit fitBody(const Cloud& cloud, const FitOptions& options = {});
+
+// Point-to-surface quality of a model against a cloud (used by fitBody and by evaluation).
+FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,
+                       const FitQualityOptions& options = {});
+
+}  // namespace body_gait
