@@ -349,6 +349,7 @@ BodyFit fitBody(const Cloud& cloud, const FitOptions& options) {
   // knee at 0.245 / 0.53 of hip to sole.
   constexpr double kElbowFraction = 0.186 / 0.44, kKneeFraction = 0.245 / 0.53;
   constexpr double kArmRadius = 0.045;
+  constexpr double kFootHeight = 0.06;  // * body height: the foot's points above the sole
   LimbFit limbs[6];
   Eigen::Vector3d shoulder[2], hip[2];  // index 0 right, 1 left (in model coordinates)
   for (Part limb : {kRightArm, kLeftArm, kRightLeg, kLeftLeg}) {
@@ -358,9 +359,26 @@ BodyFit fitBody(const Cloud& cloud, const FitOptions& options) {
       limbs[limb] = fitLimb(
           limb_points[limb], kElbowFraction,
           [&](const Line& line) { return shoulderOn(line, kArmRadius); }, false);
-    else
+    else {
+      // The foot sticks out forward from the shank: leave it out of the line fits.
+      double lowest = std::numeric_limits<double>::infinity();
+      for (const auto& p : limb_points[limb]) lowest = std::min(lowest, p.y());
+      std::vector<Eigen::Vector3d> without_foot;
+      for (const auto& p : limb_points[limb])
+        if (p.y() > lowest + kFootHeight * body_height) without_foot.push_back(p);
       limbs[limb] = fitLimb(
-          limb_points[limb], kKneeFraction, [&](const Line&) { return hip_of_side[side]; }, true);
+          without_foot, kKneeFraction, [&](const Line&) { return hip_of_side[side]; }, true);
+      if (limbs[limb].valid) {
+        // The sole: as far along the shank line as the leg's points (the foot included) reach.
+        std::vector<double> reach;
+        for (const auto& p : limb_points[limb])
+          reach.push_back((p - limbs[limb].middle_joint).dot(limbs[limb].lower.direction));
+        const size_t index = size_t(0.995 * (reach.size() - 1));
+        std::nth_element(reach.begin(), reach.begin() + index, reach.end());
+        limbs[limb].distal_end =
+            limbs[limb].middle_joint + reach[index] * limbs[limb].lower.direction;
+      }
+    }
     if (!limbs[limb].valid)
       throw std::invalid_argument(
           std::string("body fit: too few points on the ") +
