@@ -222,9 +222,11 @@ FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,
   return quality;
 }
 
-BodyFit fitBody(const Cloud& cloud, const FitOptions& options) {
-  BodyFit fit;
-  fit.axes = estimateBodyAxes(cloud, options.axes);
+namespace {
+
+// Steps 5.5.2-5.5.4 on top of the axes already in fit. Throws std::invalid_argument when the
+// cloud does not have a body's shape.
+void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
   const BodyAxes& axes = fit.axes;
   std::vector<Eigen::Vector3d> model_points;
   model_points.reserve(cloud.size());
@@ -521,6 +523,23 @@ BodyFit fitBody(const Cloud& cloud, const FitOptions& options) {
   }
   fit.joint_points.push_back({"head_top", axes.toWorld(upper_axis.atHeight(head_top))});
   fit.quality = evaluateFit(model, cloud, options.quality);
+}
+
+}  // namespace
+
+BodyFit fitBody(const Cloud& cloud, const FitOptions& options) {
+  BodyFit fit;
+  fit.axes = estimateBodyAxes(cloud, options.axes);  // refuses clouds that are no body at all
+  try {
+    fitModel(cloud, options, fit);
+  } catch (const std::invalid_argument& not_a_body) {
+    // Shaped unlike a body (or parts missing): a standing template at the centroid, flagged.
+    fit.model = standingModel(std::max(fit.axes.height(), 0.5));
+    fit.model.p = poseVectorFromFrame(fit.axes.centroid, fit.axes.axes);
+    fit.quality = evaluateFit(fit.model, cloud, options.quality);
+    fit.quality.low_quality = true;
+    fit.quality.reason = std::string("not fitted: ") + not_a_body.what();
+  }
   return fit;
 }
 
