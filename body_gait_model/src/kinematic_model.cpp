@@ -163,37 +163,39 @@ PoseVector poseVectorFromFrame(const Eigen::Vector3d& origin, const Eigen::Matri
   return p;
 }
 
+Eigen::Vector3d jointOffset(const BodyModel& model, int segment) {
+  checkSegment(segment);
+  const BodyShape& shape = model.shape;
+  const SegmentLengths& r = model.r;
+  // The parent's cylinder runs along +-Y of its frame.
+  switch (segment) {
+    case kNeck:
+      return {0, r[kUpperTorso], 0};
+    case kHead:
+      return {0, r[kNeck], 0};
+    case kRightUpperArm:
+    case kLeftUpperArm: {
+      const double side = segment == kLeftUpperArm ? 1.0 : -1.0;  // +X_m is the left
+      return {side * shape.shoulder_half_width, r[kUpperTorso] - shape.shoulder_drop, 0};
+    }
+    case kRightUpperLeg:
+    case kLeftUpperLeg: {
+      const double side = segment == kLeftUpperLeg ? 1.0 : -1.0;
+      return {side * shape.hip_half_width, -(r[kLowerTorso] - shape.hip_rise), 0};
+    }
+    case kRightLowerArm:
+    case kLeftLowerArm:
+    case kRightLowerLeg:
+    case kLeftLowerLeg:
+      return {0, -r[segment - 1], 0};
+    default:
+      return Eigen::Vector3d::Zero();  // the torso joints sit on the root
+  }
+}
+
 PosedModel forwardKinematics(const BodyModel& model) {
   PosedModel posed;
   posed.whole_body = transform(model.p.head<3>(), wholeBodyRotation(model.p));
-  const BodyShape& shape = model.shape;
-  const SegmentLengths& r = model.r;
-  // Where each joint sits in its parent's frame (the parent's cylinder runs along +-Y).
-  auto jointOffset = [&](int segment) -> Eigen::Vector3d {
-    switch (segment) {
-      case kNeck:
-        return {0, r[kUpperTorso], 0};
-      case kHead:
-        return {0, r[kNeck], 0};
-      case kRightUpperArm:
-      case kLeftUpperArm: {
-        const double side = segment == kLeftUpperArm ? 1.0 : -1.0;  // +X_m is the left
-        return {side * shape.shoulder_half_width, r[kUpperTorso] - shape.shoulder_drop, 0};
-      }
-      case kRightUpperLeg:
-      case kLeftUpperLeg: {
-        const double side = segment == kLeftUpperLeg ? 1.0 : -1.0;
-        return {side * shape.hip_half_width, -(r[kLowerTorso] - shape.hip_rise), 0};
-      }
-      case kRightLowerArm:
-      case kLeftLowerArm:
-      case kRightLowerLeg:
-      case kLeftLowerLeg:
-        return {0, -r[segment - 1], 0};
-      default:
-        return Eigen::Vector3d::Zero();  // the torso joints sit on the root
-    }
-  };
   // Parents precede children in the segment order except the lower-torso subtree, which only
   // depends on the root; one pass in index order is therefore enough.
   for (int segment = 0; segment < kSegmentCount; ++segment) {
@@ -201,13 +203,13 @@ PosedModel forwardKinematics(const BodyModel& model) {
     const Eigen::Isometry3d& parent =
         info.parent == kWholeBody ? posed.whole_body : posed.segments[info.parent].frame;
     PosedSegment& out = posed.segments[segment];
-    out.frame = parent * transform(jointOffset(segment),
+    out.frame = parent * transform(jointOffset(model, segment),
                                    jointRotation(model.thetaX(segment), model.thetaZ(segment)));
     const double direction = info.points_up ? 1.0 : -1.0;
     out.proximal = out.frame.translation();
-    out.distal = out.frame * Eigen::Vector3d(0, direction * r[segment], 0);
-    out.proximal_radius = shape.proximal_radius[segment];
-    out.distal_radius = shape.distal_radius[segment];
+    out.distal = out.frame * Eigen::Vector3d(0, direction * model.r[segment], 0);
+    out.proximal_radius = model.shape.proximal_radius[segment];
+    out.distal_radius = model.shape.distal_radius[segment];
   }
   return posed;
 }

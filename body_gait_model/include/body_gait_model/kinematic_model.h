@@ -113,6 +113,9 @@ Eigen::Vector2d jointAnglesForDirection(const Eigen::Vector3d& direction, bool p
 // X_m, Y_m, Z_m); inverse of wholeBodyRotation.
 PoseVector poseVectorFromFrame(const Eigen::Vector3d& origin, const Eigen::Matrix3d& rotation);
 
+// Where a segment's joint sits in its parent's frame (the whole-body frame for the torso).
+Eigen::Vector3d jointOffset(const BodyModel& model, int segment);
+
 // Forward kinematics of the tree (Table 5.2 parents).
 PosedModel forwardKinematics(const BodyModel& model);
 
