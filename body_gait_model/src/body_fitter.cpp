@@ -522,6 +522,14 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
     fit.joint_points.push_back({limb_info.distal, distal});
   }
   fit.joint_points.push_back({"head_top", axes.toWorld(upper_axis.atHeight(head_top))});
+  if (options.refine) {
+    Cloud without_feet;
+    without_feet.reserve(cloud.size());
+    const double foot_top = axes.lowest + options.foot_height * body_height;
+    for (size_t i = 0; i < cloud.size(); ++i)
+      if (model_points[i].y() > foot_top) without_feet.push_back(cloud[i]);
+    fit.refinement = refineModel(model, without_feet, options.refinement);
+  }
   fit.quality = evaluateFit(model, cloud, options.quality);
 }
 
