@@ -182,8 +182,11 @@ FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,
   FitQuality quality;
   const PosedModel posed = forwardKinematics(model);
   double sum_squares = 0;
-  int explained = 0;
-  for (const auto& point : cloud) {
+  int explained = 0, evaluated = 0;
+  const size_t stride = std::max<size_t>(1, cloud.size() / size_t(std::max(options.max_points, 1)));
+  std::array<int, kSegmentCount> nearest{};
+  for (size_t index = 0; index < cloud.size(); index += stride) {
+    const Eigen::Vector3d& point = cloud[index];
     double best = std::numeric_limits<double>::infinity();
     int best_segment = 0;
     for (int s = 0; s < kSegmentCount; ++s) {
@@ -197,10 +200,14 @@ FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,
     }
     sum_squares += best * best;
     explained += best <= options.explained_distance;
-    ++quality.points_per_segment[best_segment];
+    ++nearest[best_segment];
+    ++evaluated;
   }
-  quality.rms_distance = cloud.empty() ? 0.0 : std::sqrt(sum_squares / cloud.size());
-  quality.explained_fraction = cloud.empty() ? 0.0 : double(explained) / cloud.size();
+  for (int s = 0; s < kSegmentCount; ++s)
+    quality.points_per_segment[s] =
+        evaluated > 0 ? int(std::lround(double(nearest[s]) * cloud.size() / evaluated)) : 0;
+  quality.rms_distance = evaluated > 0 ? std::sqrt(sum_squares / evaluated) : 0.0;
+  quality.explained_fraction = evaluated > 0 ? double(explained) / evaluated : 0.0;
   std::string reason;
   if (quality.explained_fraction < options.min_explained_fraction)
     reason += "only " + std::to_string(int(100 * quality.explained_fraction)) +

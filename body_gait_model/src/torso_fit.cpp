@@ -86,11 +86,11 @@ CrossSection crossSection(const std::vector<Eigen::Vector2d>& slice_xz, double h
 
 const CrossSection& TorsoFit::sectionAt(double height) const {
   if (sections.empty()) throw std::logic_error("torso fit has no sections");
-  const auto nearest = std::min_element(
-      sections.begin(), sections.end(), [height](const CrossSection& a, const CrossSection& b) {
-        return std::abs(a.height - height) < std::abs(b.height - height);
-      });
-  return *nearest;
+  // Sections are evenly spaced: index directly (this runs once per point).
+  const double first = sections.front().height;
+  const double step = sections.size() > 1 ? sections[1].height - sections[0].height : 1.0;
+  const long index = std::lround((height - first) / step);
+  return sections[std::clamp<long>(index, 0, long(sections.size()) - 1)];
 }
 
 TorsoFit fitTorso(const std::vector<Eigen::Vector3d>& model_points, const BodyAxes& axes,

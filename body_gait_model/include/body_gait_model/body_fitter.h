@@ -22,6 +22,9 @@ struct FitQualityOptions {
   double min_explained_fraction = 0.7;
   double max_rms = 0.035;                // m
   int min_points_per_limb_segment = 50;  // arms, legs
+  // Distances are taken on an even subsample of at most this many points (the figures are
+  // statistics; points_per_segment is scaled back to the whole cloud).
+  int max_points = 100000;
 };
 
 struct FitOptions {
