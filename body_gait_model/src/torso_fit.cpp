@@ -114,6 +114,11 @@ TorsoFit fitTorso(const std::vector<Eigen::Vector3d>& model_points, const BodyAx
     torso.sections.push_back(crossSection(slices[i], height, options.sectors));
     if (std::abs(height) < step / 2 + 1e-12 && g_index < 0) g_index = int(i);
   }
+  // Dark clothing returns no light: where the section at g has more holes than points (trunks
+  // around the hips), take the nearest closed section above it as the reference a_g.
+  while (g_index >= 0 && g_index + 1 < int(torso.sections.size()) &&
+         torso.sections[g_index].filled_sectors < options.sectors * 3 / 4)
+    ++g_index;
   if (g_index < 0 || torso.sections[g_index].area <= 0)
     throw std::invalid_argument(
         "torso fit: no cross-section at the centroid height; the cloud has no torso there");
@@ -125,8 +130,11 @@ TorsoFit fitTorso(const std::vector<Eigen::Vector3d>& model_points, const BodyAx
       top = i;
       break;
     }
+  // The crotch lies at ~0.47 of the stature (Drillis & Contini): below min_base_height the
+  // sections are legs whatever their area (long strides under dark trunks keep it large).
   for (int i = g_index - 1; i >= 0; --i)
-    if (torso.sections[i].area < options.delta_lt * torso.area_g) {
+    if (torso.sections[i].area < options.delta_lt * torso.area_g ||
+        torso.sections[i].height < axes.lowest + options.min_base_height * axes.height()) {
       base = i;
       break;
     }

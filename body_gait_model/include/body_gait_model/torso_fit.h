@@ -9,10 +9,11 @@
 namespace body_gait {
 
 struct TorsoOptions {
-  int sectors = 36;          // R: regions radiating from the axis point w_h
-  double delta_ut = 0.25;    // eq 5.5: top of the upper torso where a_l < delta_ut a_g
-  double delta_lt = 0.5;     // eq 5.6: base of the lower torso where a_l < delta_lt a_g
-  double slice_step = 0.01;  // m between cross-sections (and their thickness)
+  int sectors = 36;               // R: regions radiating from the axis point w_h
+  double delta_ut = 0.25;         // eq 5.5: top of the upper torso where a_l < delta_ut a_g
+  double delta_lt = 0.5;          // eq 5.6: base of the lower torso where a_l < delta_lt a_g
+  double slice_step = 0.01;       // m between cross-sections (and their thickness)
+  double min_base_height = 0.40;  // * body height above the lowest point: the base's floor
 };
 
 // One horizontal cross-section in model coordinates (X_m-Z_m plane at height Y_m = height).
