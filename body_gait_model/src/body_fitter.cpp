@@ -76,7 +76,7 @@ double mean(const std::vector<double>& values) {
 constexpr double kShortUpperPart = 0.2;  // m
 
 template <typename ProximalOf>
-LimbFit fitLimb(std::vector<Eigen::Vector3d> points, double expected_fraction,
+LimbFit fitLimb(std::vector<Eigen::Vector3d> points, double expected_fraction, double window,
                 const ProximalOf& proximalOf, bool proximal_fixed) {
   LimbFit limb;
   limb.points = int(points.size());
@@ -99,7 +99,7 @@ LimbFit fitLimb(std::vector<Eigen::Vector3d> points, double expected_fraction,
   const double length = end - start;
   double best_cost = std::numeric_limits<double>::infinity();
   size_t best_split = 0;
-  for (double fraction = expected_fraction - 0.12; fraction <= expected_fraction + 0.12 + 1e-9;
+  for (double fraction = expected_fraction - window; fraction <= expected_fraction + window + 1e-9;
        fraction += 0.01) {
     const size_t split =
         std::lower_bound(along.begin(), along.end(), start + fraction * length) - along.begin();
@@ -366,7 +366,7 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
     const int side = limb == kLeftArm || limb == kLeftLeg ? 1 : 0;
     if (arm)
       limbs[limb] = fitLimb(
-          limb_points[limb], kElbowFraction,
+          limb_points[limb], kElbowFraction, options.arm_split_window,
           [&](const Line& line) { return shoulderOn(line, kArmRadius); }, false);
     else {
       // The foot sticks out forward from the shank: leave it out of the line fits.
@@ -376,7 +376,8 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
       for (const auto& p : limb_points[limb])
         if (p.y() > lowest + kFootHeight * body_height) without_foot.push_back(p);
       limbs[limb] = fitLimb(
-          without_foot, kKneeFraction, [&](const Line&) { return hip_of_side[side]; }, true);
+          without_foot, kKneeFraction, options.leg_split_window,
+          [&](const Line&) { return hip_of_side[side]; }, true);
       if (limbs[limb].valid) {
         // The sole: as far along the shank line as the leg's points (the foot included) reach.
         std::vector<double> reach;

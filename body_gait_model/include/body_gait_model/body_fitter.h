@@ -35,7 +35,10 @@ struct FitOptions {
   // (the model has none): on simulated subjects 33 -> 30 mm mean joint error.
   bool refine = true;
   RefinementOptions refinement;
-  double foot_height = 0.06;        // * body height above the lowest point: left out of refinement
+  double foot_height = 0.06;  // * body height above the lowest point: left out of refinement
+  // Elbow and knee are searched within +- this fraction of the proximal-joint-to-tip length
+  // around the standard proportion (Drillis & Contini).
+  double arm_split_window = 0.12, leg_split_window = 0.12;
   double limb_track_radius = 0.06;  // m: an arm's next slice lies within this of its centre
   // Hip joint centres above the lowest point, * body height (Drillis & Contini: 0.53). They lie
   // inside the pelvis, so the surface alone does not show them; the thigh line gives x and z.
