@@ -1,0 +1,29 @@
+// Refinement of the whole model (after 5.5's direct fits): p, q and r minimize the robust
+// point-to-surface distance of the cloud to the tapered cylinders, q within Table 5.2. Ceres
+// stays inside refinement.cpp.
+#pragma once
+
+#include <body_gait_model/body_axes.h>
+#include <body_gait_model/kinematic_model.h>
+
+namespace body_gait {
+
+struct RefinementOptions {
+  int sample_points = 2500;   // points drawn evenly from the cloud
+  int rounds = 2;             // nearest-segment assignment, then a solve, per round
+  int max_iterations = 12;    // per solve
+  double huber_scale = 0.02;  // m: beyond this a point counts linearly (hands, feet, hair)
+  double min_length = 0.03;   // m: lower bound of every l^r
+};
+
+struct RefinementReport {
+  double initial_rms = 0, final_rms = 0;  // of the sampled points, to their assigned segments
+  int iterations = 0;
+};
+
+// Refines model in place; returns what changed. The shape (radii, joint offsets) and the lengths
+// of the free ends (head, lower arms, lower legs) stay fixed.
+RefinementReport refineModel(BodyModel& model, const Cloud& cloud,
+                             const RefinementOptions& options = {});
+
+}  // namespace body_gait

@@ -1,0 +1,174 @@
+// PCA body axes (thesis 5.5.1, eq 5.4) and front/back disambiguation from the feet.
+#include <body_gait_model/body_axes.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace body_gait {
+namespace {
+
+constexpr size_t kMinimumPoints = 1000;
+
+struct Moments {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  size_t count = 0;
+  void add(const Eigen::Vector3d& point) {
+    sum += point;
+    outer += point * point.transpose();
+    ++count;
+  }
+  Eigen::Vector3d mean() const { return sum / double(count); }
+  Eigen::Matrix3d covariance() const {
+    const Eigen::Vector3d m = mean();
+    return outer / double(count) - m * m.transpose();
+  }
+};
+
+// Mean (x, z) model coordinates and mean height of one leg's points in a height band.
+struct BandMean {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int count = 0;
+  Eigen::Vector3d mean() const { return sum / count; }
+};
+
+}  // namespace
+
+BodyAxes estimateBodyAxes(const Cloud& cloud, const BodyAxesOptions& options) {
+  if (cloud.size() < kMinimumPoints)
+    throw std::invalid_argument(
+        "body axes: the cloud has " + std::to_string(cloud.size()) +
+        " points; a whole-body scan needs >= " + std::to_string(kMinimumPoints) +
+        " (check that every pair captured and the merge kept them)");
+  // Step 1 (5.5.1): centroid e_0 and vertical axis e_1 from the whole body.
+  Moments all;
+  for (const auto& point : cloud) all.add(point);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> whole(all.covariance());
+  BodyAxes result;
+  result.centroid = all.mean();
+  Eigen::Vector3d up = whole.eigenvectors().col(2);  // largest eigenvalue
+  if (up.z() < 0) up = -up;
+  if (up.z() < 0.5)
+    throw std::invalid_argument(
+        "body axes: the cloud's longest axis is not vertical (it leans by more than 60 "
+        "degrees); the fitter expects a standing subject in the scanner's floor frame (z up)");
+  result.pca_vertical = up;
+  if (options.vertical_from_floor) up = Eigen::Vector3d::UnitZ();
+
+  double lowest = 1e9, highest = -1e9;
+  for (const auto& point : cloud) {
+    const double height = (point - result.centroid).dot(up);
+    lowest = std::min(lowest, height);
+    highest = std::max(highest, height);
+  }
+  const double body_height = highest - lowest;
+
+  // Step 2: coronal / sagittal axes from the horizontal spread of the torso's top, the shoulder
+  // girdle: the widest, flattest cross-section of the torso, where swinging arms have not yet
+  // moved away from it. Projected onto the
+  // plane normal to e_1 so that the frame stays orthonormal.
+  const Eigen::Vector3d seed =
+      std::abs(up.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d u = up.cross(seed).normalized(), v = up.cross(u);
+  // The torso's own points in the band: per radial sector around the band's centre, only those
+  // within kSectorDepth of the sector's closest point (as the cross-sections of 5.5.2 do), so
+  // that arms hanging outside the torso do not skew the axes.
+  std::vector<Eigen::Vector2d> band;
+  Eigen::Vector2d band_centre = Eigen::Vector2d::Zero();
+  for (const auto& point : cloud) {
+    const Eigen::Vector3d offset = point - result.centroid;
+    const double above_floor = offset.dot(up) - lowest;
+    if (above_floor < options.shoulder_band_low * body_height ||
+        above_floor > options.shoulder_band_high * body_height)
+      continue;
+    band.emplace_back(offset.dot(u), offset.dot(v));
+    band_centre += band.back();
+  }
+  if (band.size() < 100)
+    throw std::invalid_argument(
+        "body axes: only " + std::to_string(band.size()) +
+        " points at shoulder height; the upper torso is missing from the cloud");
+  band_centre /= double(band.size());
+  constexpr int kSectors = 36;
+  constexpr double kSectorDepth = 0.03;
+  constexpr double kTwoPi = 6.283185307179586;
+  auto sectorOf = [&](const Eigen::Vector2d& planar) {
+    const Eigen::Vector2d d = planar - band_centre;
+    const int sector = int((std::atan2(d.y(), d.x()) + kTwoPi / 2) / kTwoPi * kSectors);
+    return std::clamp(sector, 0, kSectors - 1);
+  };
+  std::vector<double> closest(kSectors, 1e9);
+  for (const auto& planar : band)
+    closest[sectorOf(planar)] = std::min(closest[sectorOf(planar)], (planar - band_centre).norm());
+  Eigen::Vector2d band_sum = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d band_outer = Eigen::Matrix2d::Zero();
+  int band_count = 0;
+  for (const auto& planar : band) {
+    if ((planar - band_centre).norm() > closest[sectorOf(planar)] + kSectorDepth) continue;
+    band_sum += planar;
+    band_outer += planar * planar.transpose();
+    ++band_count;
+  }
+  const Eigen::Vector2d band_mean = band_sum / band_count;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> torso(band_outer / band_count -
+                                                       band_mean * band_mean.transpose());
+  const Eigen::Vector2d coronal = torso.eigenvectors().col(1);  // widest: shoulder to shoulder
+  Eigen::Vector3d left = (coronal.x() * u + coronal.y() * v).normalized();
+  Eigen::Vector3d front = left.cross(up);  // so that left = up x front
+
+  // Front/back: per leg (split by the tentative coronal axis), extrapolate the lower shank's
+  // centre line down to the feet and measure how far foot points lie ahead of it along `front`.
+  // Heights count from each leg's own lowest point: a leg may be lifted off the floor.
+  double side_lowest[2] = {1e9, 1e9};
+  for (const auto& point : cloud) {
+    const Eigen::Vector3d offset = point - result.centroid;
+    const int side = offset.dot(left) > 0 ? 1 : 0;
+    side_lowest[side] = std::min(side_lowest[side], offset.dot(up));
+  }
+  BandMean shank_low[2], shank_high[2];
+  for (const auto& point : cloud) {
+    const Eigen::Vector3d offset = point - result.centroid;
+    const int side = offset.dot(left) > 0 ? 1 : 0;
+    const double above_floor = offset.dot(up) - side_lowest[side];
+    const Eigen::Vector3d local(offset.dot(left), above_floor, offset.dot(front));
+    const double mid = (options.shank_band_low + options.shank_band_high) / 2 * body_height;
+    if (above_floor >= options.shank_band_low * body_height && above_floor < mid) {
+      shank_low[side].sum += local;
+      ++shank_low[side].count;
+    } else if (above_floor >= mid && above_floor < options.shank_band_high * body_height) {
+      shank_high[side].sum += local;
+      ++shank_high[side].count;
+    }
+  }
+  double reach_sum = 0;
+  int reach_count = 0;
+  for (const auto& point : cloud) {
+    const Eigen::Vector3d offset = point - result.centroid;
+    const int side = offset.dot(left) > 0 ? 1 : 0;
+    const double above_floor = offset.dot(up) - side_lowest[side];
+    if (above_floor >= options.foot_band * body_height) continue;
+    if (shank_low[side].count < 20 || shank_high[side].count < 20) continue;
+    const Eigen::Vector3d a = shank_low[side].mean(), b = shank_high[side].mean();
+    if (std::abs(b.y() - a.y()) < 1e-6) continue;
+    const double line_front = a.z() + (b.z() - a.z()) * (above_floor - a.y()) / (b.y() - a.y());
+    reach_sum += offset.dot(front) - line_front;
+    ++reach_count;
+  }
+  result.foot_reach = reach_count > 0 ? reach_sum / reach_count : 0.0;
+  if (result.foot_reach < 0) {
+    front = -front;
+    left = -left;
+    result.foot_reach = -result.foot_reach;
+  }
+  result.axes.col(0) = left;
+  result.axes.col(1) = up;
+  result.axes.col(2) = front;
+  result.lowest = lowest;
+  result.highest = highest;
+  return result;
+}
+
+}  // namespace body_gait

@@ -1,0 +1,562 @@
+// Model fitting of thesis 5.5: axes, torso, arms and legs (eqs 5.9-5.10), head and neck.
+#include <body_gait_model/body_fitter.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+namespace body_gait {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Line {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = -Eigen::Vector3d::UnitY();  // unit
+
+  double distance(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d offset = p - point;
+    return (offset - offset.dot(direction) * direction).norm();
+  }
+  // The line's point at model height y (the line must not be horizontal).
+  Eigen::Vector3d atHeight(double y) const {
+    if (std::abs(direction.y()) < 1e-6) return point;
+    return point + (y - point.y()) / direction.y() * direction;
+  }
+};
+
+// Running sums for least-squares line fits: the line through the mean along the principal
+// axis minimizes the summed squared distances of eqs 5.9 / 5.10.
+struct LineMoments {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  int count = 0;
+  void add(const Eigen::Vector3d& p) {
+    sum += p;
+    outer += p * p.transpose();
+    ++count;
+  }
+  LineMoments operator-(const LineMoments& other) const {
+    return {sum - other.sum, outer - other.outer, count - other.count};
+  }
+  Line fit(const Eigen::Vector3d& orientation) const {
+    Line line;
+    if (count < 3) return line;
+    line.point = sum / count;
+    const Eigen::Matrix3d covariance = outer / count - line.point * line.point.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+    line.direction = solver.eigenvectors().col(2);
+    if (line.direction.dot(orientation) < 0) line.direction = -line.direction;
+    return line;
+  }
+};
+
+// A limb of two parts (upper/lower arm or leg) fitted by two lines (eqs 5.9-5.10).
+struct LimbFit {
+  bool valid = false;
+  Line upper, lower;
+  Eigen::Vector3d middle_joint = Eigen::Vector3d::Zero();     // elbow or knee
+  Eigen::Vector3d distal_end = Eigen::Vector3d::Zero();       // hand tip or sole
+  double upper_radius[2] = {0, 0}, lower_radius[2] = {0, 0};  // proximal, distal
+  int points = 0;
+};
+
+double mean(const std::vector<double>& values) {
+  return values.empty() ? 0.0 : std::accumulate(values.begin(), values.end(), 0.0) / values.size();
+}
+
+// Splits the limb's points along their principal axis and fits a line to each part (eqs
+// 5.9-5.10). The split is searched within +-12 % of the standard proportion (expected_fraction
+// of the proximal-joint-to-tip length) and minimizes the spread of point-to-line distances about
+// each part's own radius: that finds the joint where the limb bends and, for a straight limb,
+// where its girth changes. proximalOf gives the proximal joint for a line along the upper part.
+constexpr double kShortUpperPart = 0.2;  // m
+
+template <typename ProximalOf>
+LimbFit fitLimb(std::vector<Eigen::Vector3d> points, double expected_fraction, double window,
+                const ProximalOf& proximalOf, bool proximal_fixed) {
+  LimbFit limb;
+  limb.points = int(points.size());
+  if (points.size() < 30) return limb;
+  LineMoments all;
+  for (const auto& p : points) all.add(p);
+  const Line axis = all.fit(-Eigen::Vector3d::UnitY());  // limbs hang: orient downward
+  std::sort(points.begin(), points.end(), [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return (a - axis.point).dot(axis.direction) < (b - axis.point).dot(axis.direction);
+  });
+  std::vector<double> along(points.size());
+  std::vector<LineMoments> prefix(points.size() + 1);
+  for (size_t i = 0; i < points.size(); ++i) {
+    along[i] = (points[i] - axis.point).dot(axis.direction);
+    prefix[i + 1] = prefix[i];
+    prefix[i + 1].add(points[i]);
+  }
+  const double start = (proximalOf(axis) - axis.point).dot(axis.direction);
+  const double end = along[size_t(0.995 * (along.size() - 1))];
+  const double length = end - start;
+  double best_cost = std::numeric_limits<double>::infinity();
+  size_t best_split = 0;
+  for (double fraction = expected_fraction - window; fraction <= expected_fraction + window + 1e-9;
+       fraction += 0.01) {
+    const size_t split =
+        std::lower_bound(along.begin(), along.end(), start + fraction * length) - along.begin();
+    if (split < 10 || split + 10 > points.size()) continue;
+    const Line upper = prefix[split].fit(axis.direction);
+    const Line lower = (prefix[points.size()] - prefix[split]).fit(axis.direction);
+    double cost = 0;
+    for (const auto& [from, to, line] :
+         {std::tuple<size_t, size_t, const Line&>{0, split, upper},
+          std::tuple<size_t, size_t, const Line&>{split, points.size(), lower}}) {
+      double sum = 0, sum_squares = 0;
+      for (size_t i = from; i < to; ++i) {
+        const double d = line.distance(points[i]);
+        sum += d;
+        sum_squares += d * d;
+      }
+      cost += sum_squares - sum * sum / double(to - from);
+    }
+    if (cost < best_cost) {
+      best_cost = cost;
+      best_split = split;
+    }
+  }
+  if (best_split == 0) return limb;
+  limb.upper = prefix[best_split].fit(axis.direction);
+  limb.lower = (prefix[points.size()] - prefix[best_split]).fit(axis.direction);
+  // The joint: where the split plane meets each line, averaged.
+  const Eigen::Vector3d split_point = axis.point + along[best_split] * axis.direction;
+  auto onLine = [](const Line& line, const Eigen::Vector3d& p) {
+    return line.point + (p - line.point).dot(line.direction) * line.direction;
+  };
+  limb.middle_joint = (onLine(limb.upper, split_point) + onLine(limb.lower, split_point)) / 2;
+  // A short upper part (a thigh seen only below a low crotch) leaves its line's direction
+  // undetermined: take the line from the lower part's joint through the fixed proximal joint
+  // (hips) or the upper part's centroid.
+  const double upper_extent = along[best_split] - along.front();
+  if (proximal_fixed || upper_extent < kShortUpperPart) {
+    limb.middle_joint = onLine(limb.lower, split_point);
+    const Eigen::Vector3d from =
+        proximal_fixed ? proximalOf(axis)
+                       : Eigen::Vector3d(prefix[best_split].sum / prefix[best_split].count);
+    limb.upper.point = from;
+    limb.upper.direction = (limb.middle_joint - from).normalized();
+  }
+  // Far end: the 99.5th percentile of the lower part along its line (robust to stray points).
+  std::vector<double> reach;
+  for (size_t i = best_split; i < points.size(); ++i)
+    reach.push_back((points[i] - limb.middle_joint).dot(limb.lower.direction));
+  std::nth_element(reach.begin(), reach.begin() + size_t(0.995 * (reach.size() - 1)), reach.end());
+  limb.distal_end =
+      limb.middle_joint + reach[size_t(0.995 * (reach.size() - 1))] * limb.lower.direction;
+  // Radii: mean distance to the line over each half of each part.
+  auto radii = [&](size_t from, size_t to, const Line& line, double* out) {
+    const size_t middle = (from + to) / 2;
+    std::vector<double> first, second;
+    for (size_t i = from; i < to; ++i)
+      (i < middle ? first : second).push_back(line.distance(points[i]));
+    out[0] = mean(first);
+    out[1] = mean(second);
+  };
+  radii(0, best_split, limb.upper, limb.upper_radius);
+  radii(best_split, points.size(), limb.lower, limb.lower_radius);
+  limb.valid = true;
+  return limb;
+}
+
+// Radius of a cross-section polygon in the direction of a point (its sector's vertex).
+double polygonRadius(const CrossSection& section, double phi, int sectors) {
+  if (section.polygon.empty()) return 0;
+  const int sector = std::clamp(int((phi + kPi) / (2 * kPi) * sectors), 0, sectors - 1);
+  return section.polygon[sector].norm();
+}
+
+enum Part { kTorsoPart, kHeadPart, kRightArm, kLeftArm, kRightLeg, kLeftLeg, kUnassigned };
+
+}  // namespace
+
+FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,
+                       const FitQualityOptions& options) {
+  FitQuality quality;
+  const PosedModel posed = forwardKinematics(model);
+  double sum_squares = 0;
+  int explained = 0, evaluated = 0;
+  const size_t stride = std::max<size_t>(1, cloud.size() / size_t(std::max(options.max_points, 1)));
+  std::array<int, kSegmentCount> nearest{};
+  for (size_t index = 0; index < cloud.size(); index += stride) {
+    const Eigen::Vector3d& point = cloud[index];
+    double best = std::numeric_limits<double>::infinity();
+    int best_segment = 0;
+    for (int s = 0; s < kSegmentCount; ++s) {
+      const PosedSegment& segment = posed.segments[s];
+      const double d = std::abs(taperedCylinderDistance(
+          point, segment.proximal, segment.distal, segment.proximal_radius, segment.distal_radius));
+      if (d < best) {
+        best = d;
+        best_segment = s;
+      }
+    }
+    sum_squares += best * best;
+    explained += best <= options.explained_distance;
+    ++nearest[best_segment];
+    ++evaluated;
+  }
+  for (int s = 0; s < kSegmentCount; ++s)
+    quality.points_per_segment[s] =
+        evaluated > 0 ? int(std::lround(double(nearest[s]) * cloud.size() / evaluated)) : 0;
+  quality.rms_distance = evaluated > 0 ? std::sqrt(sum_squares / evaluated) : 0.0;
+  quality.explained_fraction = evaluated > 0 ? double(explained) / evaluated : 0.0;
+  std::string reason;
+  if (quality.explained_fraction < options.min_explained_fraction)
+    reason += "only " + std::to_string(int(100 * quality.explained_fraction)) +
+              " % of the points lie within " +
+              std::to_string(int(1000 * options.explained_distance)) + " mm of the model; ";
+  if (quality.rms_distance > options.max_rms)
+    reason += "RMS point-to-model distance " + std::to_string(int(1000 * quality.rms_distance)) +
+              " mm > " + std::to_string(int(1000 * options.max_rms)) + " mm; ";
+  for (int s : {kRightUpperArm, kRightLowerArm, kLeftUpperArm, kLeftLowerArm, kRightUpperLeg,
+                kRightLowerLeg, kLeftUpperLeg, kLeftLowerLeg})
+    if (quality.points_per_segment[s] < options.min_points_per_limb_segment)
+      reason += std::string(segmentInfo(s).name) + " explains only " +
+                std::to_string(quality.points_per_segment[s]) + " points; ";
+  quality.low_quality = !reason.empty();
+  if (quality.low_quality)
+    quality.reason = reason +
+                     "check that the whole subject was scanned (arms away from the "
+                     "torso, every pair captured)";
+  return quality;
+}
+
+namespace {
+
+// Steps 5.5.2-5.5.4 on top of the axes already in fit. Throws std::invalid_argument when the
+// cloud does not have a body's shape.
+void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
+  const BodyAxes& axes = fit.axes;
+  std::vector<Eigen::Vector3d> model_points;
+  model_points.reserve(cloud.size());
+  for (const auto& p : cloud) model_points.push_back(axes.toModel(p));
+  fit.torso = fitTorso(model_points, axes, options.torso);
+  const TorsoFit& torso = fit.torso;
+  const double body_height = axes.height();
+  const int sectors = options.torso.sectors;
+  const Line upper_axis{torso.waist, torso.upper_direction};
+
+  // Segmentation (5.5.2-5.5.4). Above the torso: head and neck near the axis. Between the
+  // centroid and the torso's top: points outside the cross-section polygon are arms (the chest
+  // sections are closed). Below the centroid the polygon around the axis no longer separates
+  // arms from hips and thighs, so each arm is tracked down slice by slice from its centre; what
+  // remains below the lower torso's base is legs.
+  std::vector<Part> part(model_points.size(), kUnassigned);
+  const double step = options.torso.slice_step;
+  std::vector<std::vector<size_t>> low_slices;  // below g, top down
+  for (size_t i = 0; i < model_points.size(); ++i) {
+    const Eigen::Vector3d& p = model_points[i];
+    if (p.y() > torso.top) {
+      const Eigen::Vector3d on_axis = upper_axis.atHeight(p.y());
+      if (std::hypot(p.x() - on_axis.x(), p.z() - on_axis.z()) < 0.09 * body_height)
+        part[i] = kHeadPart;
+    } else if (p.y() >= 0) {
+      const CrossSection& section = torso.sectionAt(p.y());
+      const double r = std::hypot(p.x(), p.z());
+      const double phi = std::atan2(p.z(), p.x());
+      if (r <= polygonRadius(section, phi, sectors) + 0.03)
+        part[i] = kTorsoPart;
+      else
+        part[i] = p.x() - section.centre.x() > 0 ? kLeftArm : kRightArm;
+    } else {
+      const size_t slice = size_t(std::floor(-p.y() / step));
+      if (slice >= low_slices.size()) low_slices.resize(slice + 1);
+      low_slices[slice].push_back(i);
+    }
+  }
+  constexpr double kArmReach = 0.5;  // finger tips lie < 0.5 * height below the torso's top
+  for (Part arm : {kRightArm, kLeftArm}) {
+    // Start: the arm's points in the lowest 5 cm above the centroid.
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    int count = 0;
+    for (size_t i = 0; i < model_points.size(); ++i)
+      if (part[i] == arm && model_points[i].y() < 0.05) {
+        centre += Eigen::Vector2d(model_points[i].x(), model_points[i].z());
+        ++count;
+      }
+    if (count < 5) continue;
+    centre /= count;
+    int empty_run = 0;
+    for (const auto& slice : low_slices) {
+      Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+      int taken = 0;
+      for (size_t i : slice) {
+        const Eigen::Vector2d xz(model_points[i].x(), model_points[i].z());
+        const Eigen::Vector3d& p = model_points[i];
+        if (p.y() < torso.top - kArmReach * body_height) continue;
+        // Down to the crotch the arm may touch the hips: points on the hips' cross-section
+        // polygon belong to the torso.
+        if (p.y() >= torso.base &&
+            std::hypot(p.x(), p.z()) <=
+                polygonRadius(torso.sectionAt(p.y()), std::atan2(p.z(), p.x()), sectors) + 0.02)
+          continue;
+        if (part[i] == kUnassigned && (xz - centre).norm() < options.limb_track_radius) {
+          part[i] = arm;
+          sum += xz;
+          ++taken;
+        }
+      }
+      if (taken >= 3) {
+        centre = sum / taken;
+        empty_run = 0;
+      } else if (++empty_run > 3) {
+        break;
+      }
+    }
+  }
+  const Eigen::Vector3d hip_line_centre =
+      Line{torso.waist, torso.lower_direction}.atHeight(torso.base);
+  for (size_t i = 0; i < model_points.size(); ++i)
+    if (part[i] == kUnassigned && model_points[i].y() < torso.base)
+      part[i] = model_points[i].x() > hip_line_centre.x() ? kLeftLeg : kRightLeg;
+
+  std::vector<Eigen::Vector3d> limb_points[6];
+  for (size_t i = 0; i < model_points.size(); ++i)
+    if (part[i] != kUnassigned) limb_points[part[i]].push_back(model_points[i]);
+  // Proximal joints. Shoulder: below the top of the shoulder above the upper-arm line by the
+  // arm's radius. Hip: on the thigh line at hip_height * body height above the lowest point.
+  auto shoulderOn = [&](const Line& line, double radius) {
+    const Eigen::Vector3d column = line.atHeight(torso.top);
+    double shoulder_top = -std::numeric_limits<double>::infinity();
+    for (const auto& p : model_points)
+      if (std::hypot(p.x() - column.x(), p.z() - column.z()) < radius &&
+          p.y() < torso.top + 0.1 * body_height)
+        shoulder_top = std::max(shoulder_top, p.y());
+    if (!std::isfinite(shoulder_top)) shoulder_top = torso.top;
+    return line.atHeight(shoulder_top - radius);
+  };
+  // Hips: inside the pelvis, unseen. Height by proportion; depth on the lower torso's axis; each
+  // hip above the centre of its thigh's top 10 cm (a thigh line extrapolated up from a low
+  // crotch swings wildly when the knee is bent).
+  const double hip_y = axes.lowest + options.hip_height * body_height;
+  const Eigen::Vector3d pelvis_centre = Line{torso.waist, torso.lower_direction}.atHeight(hip_y);
+  auto thighTopX = [&](Part leg) {
+    double top = -1e9;
+    for (const auto& p : limb_points[leg]) top = std::max(top, p.y());
+    double sum = 0;
+    int count = 0;
+    for (const auto& p : limb_points[leg])
+      if (p.y() > top - 0.1) {
+        sum += p.x();
+        ++count;
+      }
+    return count > 0 ? sum / count : pelvis_centre.x();
+  };
+  const double hip_half_width = std::clamp((thighTopX(kLeftLeg) - thighTopX(kRightLeg)) / 2,
+                                           0.02 * body_height, 0.08 * body_height);
+  const Eigen::Vector3d hip_of_side[2] = {pelvis_centre - Eigen::Vector3d(hip_half_width, 0, 0),
+                                          pelvis_centre + Eigen::Vector3d(hip_half_width, 0, 0)};
+  // Standard proportions (Drillis & Contini): elbow at 0.186 / 0.44 of shoulder to finger tip,
+  // knee at 0.245 / 0.53 of hip to sole.
+  constexpr double kElbowFraction = 0.186 / 0.44, kKneeFraction = 0.245 / 0.53;
+  constexpr double kArmRadius = 0.045;
+  constexpr double kFootHeight = 0.06;  // * body height: the foot's points above the sole
+  LimbFit limbs[6];
+  Eigen::Vector3d shoulder[2], hip[2];  // index 0 right, 1 left (in model coordinates)
+  for (Part limb : {kRightArm, kLeftArm, kRightLeg, kLeftLeg}) {
+    const bool arm = limb == kRightArm || limb == kLeftArm;
+    const int side = limb == kLeftArm || limb == kLeftLeg ? 1 : 0;
+    if (arm)
+      limbs[limb] = fitLimb(
+          limb_points[limb], kElbowFraction, options.arm_split_window,
+          [&](const Line& line) { return shoulderOn(line, kArmRadius); }, false);
+    else {
+      // The foot sticks out forward from the shank: leave it out of the line fits.
+      double lowest = std::numeric_limits<double>::infinity();
+      for (const auto& p : limb_points[limb]) lowest = std::min(lowest, p.y());
+      std::vector<Eigen::Vector3d> without_foot;
+      for (const auto& p : limb_points[limb])
+        if (p.y() > lowest + kFootHeight * body_height) without_foot.push_back(p);
+      limbs[limb] = fitLimb(
+          without_foot, kKneeFraction, options.leg_split_window,
+          [&](const Line&) { return hip_of_side[side]; }, true);
+      if (limbs[limb].valid) {
+        // The sole: as far along the shank line as the leg's points (the foot included) reach.
+        std::vector<double> reach;
+        for (const auto& p : limb_points[limb])
+          reach.push_back((p - limbs[limb].middle_joint).dot(limbs[limb].lower.direction));
+        const size_t index = size_t(0.995 * (reach.size() - 1));
+        std::nth_element(reach.begin(), reach.begin() + index, reach.end());
+        limbs[limb].distal_end =
+            limbs[limb].middle_joint + reach[index] * limbs[limb].lower.direction;
+      }
+    }
+    if (!limbs[limb].valid)
+      throw std::invalid_argument(
+          std::string("body fit: too few points on the ") +
+          (limb == kRightArm   ? "right arm"
+           : limb == kLeftArm  ? "left arm"
+           : limb == kRightLeg ? "right leg"
+                               : "left leg") +
+          " (" + std::to_string(limb_points[limb].size()) +
+          "); the subject must stand with arms and legs apart and in view of every pole");
+    if (arm)
+      shoulder[side] = shoulderOn(limbs[limb].upper, std::max(limbs[limb].upper_radius[0], 0.02));
+    else
+      hip[side] = hip_of_side[side];
+  }
+
+  // Head and neck (5.5.4): the neck is the narrowest section above the torso, the chin where the
+  // sections widen again; the head runs from there to its highest point.
+  double neck_area = std::numeric_limits<double>::infinity(), neck_height = torso.top;
+  double head_top = torso.top;
+  std::vector<Eigen::Vector3d> head_points;
+  for (size_t i = 0; i < model_points.size(); ++i)
+    if (part[i] == kHeadPart) {
+      head_points.push_back(model_points[i]);
+      head_top = std::max(head_top, model_points[i].y());
+    }
+  if (head_points.size() < 30)
+    throw std::invalid_argument("body fit: no head above the torso (" +
+                                std::to_string(head_points.size()) +
+                                " points); the top viewpoints must see the subject's head");
+  // The neck: the smallest well-sampled section in the lower half of the head-and-neck range.
+  for (const auto& section : torso.sections)
+    if (section.height > torso.top && section.height < (torso.top + head_top) / 2 &&
+        section.filled_sectors >= sectors / 2 && section.area < neck_area) {
+      neck_area = section.area;
+      neck_height = section.height;
+    }
+  if (!std::isfinite(neck_area)) neck_area = torso.sectionAt(torso.top).area;
+  double chin = torso.top + 0.3 * (head_top - torso.top);  // if the sections never widen
+  bool chin_found = false;
+  double head_area = 0;
+  for (const auto& section : torso.sections)
+    if (section.height > neck_height && section.height < head_top) {
+      if (section.filled_sectors < sectors / 2) continue;
+      if (!chin_found && section.area > 1.6 * neck_area) {
+        chin = section.height;
+        chin_found = true;
+      }
+      head_area = std::max(head_area, section.area);
+    }
+  Eigen::Vector3d head_centroid = Eigen::Vector3d::Zero();
+  int head_count = 0;
+  for (const auto& p : head_points)
+    if (p.y() > chin) {
+      head_centroid += p;
+      ++head_count;
+    }
+  const CrossSection& chin_section = torso.sectionAt(chin);
+  const Eigen::Vector3d chin_centre(chin_section.centre.x(), chin, chin_section.centre.y());
+  Eigen::Vector3d head_direction = torso.upper_direction;
+  if (head_count > 10) head_direction = (head_centroid / head_count - chin_centre).normalized();
+
+  // Assemble the model in the world (eq 5.4 inverse): root at w_g with the body axes.
+  BodyModel& model = fit.model;
+  model.p = poseVectorFromFrame(axes.toWorld(torso.waist), axes.axes);
+  auto toWorldDirection = [&](const Eigen::Vector3d& d) { return axes.axes * d; };
+  auto setSegment = [&](int segment, const Eigen::Vector3d& world_direction) {
+    const PosedModel posed = forwardKinematics(model);
+    const int parent = segmentInfo(segment).parent;
+    const Eigen::Matrix3d parent_rotation =
+        parent == kWholeBody ? posed.whole_body.linear() : posed.segments[parent].frame.linear();
+    const Eigen::Vector2d angles = jointAnglesForDirection(
+        parent_rotation.transpose() * world_direction, segmentInfo(segment).points_up);
+    model.setJointAngles(segment, angles[0], angles[1]);
+    model = clampToJointLimits(model);
+  };
+  model.r[kUpperTorso] = torso.top / std::max(torso.upper_direction.y(), 0.5);
+  model.r[kLowerTorso] = -torso.base / std::max(-torso.lower_direction.y(), 0.5);
+  model.r[kNeck] = std::max(chin - torso.top, 0.01) / std::max(torso.upper_direction.y(), 0.5);
+  model.r[kHead] = std::max(head_top - chin, 0.05) / std::max(head_direction.y(), 0.5);
+  setSegment(kUpperTorso, toWorldDirection(torso.upper_direction));
+  setSegment(kLowerTorso, toWorldDirection(torso.lower_direction));
+  setSegment(kHead, toWorldDirection(head_direction));
+
+  BodyShape& shape = model.shape;
+  {
+    const PosedModel posed = forwardKinematics(model);
+    const Eigen::Isometry3d upper_frame_inverse = posed.segments[kUpperTorso].frame.inverse();
+    const Eigen::Isometry3d lower_frame_inverse = posed.segments[kLowerTorso].frame.inverse();
+    double shoulder_x = 0, shoulder_y = 0, hip_x = 0, hip_y = 0;
+    for (int side = 0; side < 2; ++side) {
+      const Eigen::Vector3d s = upper_frame_inverse * axes.toWorld(shoulder[side]);
+      const Eigen::Vector3d h = lower_frame_inverse * axes.toWorld(hip[side]);
+      shoulder_x += std::abs(s.x()) / 2;
+      shoulder_y += s.y() / 2;
+      hip_x += std::abs(h.x()) / 2;
+      hip_y += h.y() / 2;
+    }
+    shape.shoulder_half_width = shoulder_x;
+    shape.shoulder_drop = model.r[kUpperTorso] - shoulder_y;
+    shape.hip_half_width = hip_x;
+    shape.hip_rise = model.r[kLowerTorso] + hip_y;  // hip_y is negative (below the waist)
+  }
+  shape.proximal_radius[kUpperTorso] = shape.proximal_radius[kLowerTorso] = torso.waist_radius;
+  shape.distal_radius[kUpperTorso] = torso.upper_radius_top;
+  shape.distal_radius[kLowerTorso] = torso.lower_radius_base;
+  shape.proximal_radius[kNeck] = shape.distal_radius[kNeck] =
+      std::isfinite(neck_area) ? std::sqrt(neck_area / kPi) : 0.05;
+  shape.proximal_radius[kHead] = shape.distal_radius[kHead] = std::sqrt(head_area / kPi);
+
+  const struct {
+    Part part;
+    int upper_segment;
+    int side;
+    const char* middle;
+    const char* distal;
+    const char* proximal;
+  } kLimbs[] = {{kRightArm, kRightUpperArm, 0, "right_elbow", "right_hand_tip", "right_shoulder"},
+                {kLeftArm, kLeftUpperArm, 1, "left_elbow", "left_hand_tip", "left_shoulder"},
+                {kRightLeg, kRightUpperLeg, 0, "right_knee", "right_sole", "right_hip"},
+                {kLeftLeg, kLeftUpperLeg, 1, "left_knee", "left_sole", "left_hip"}};
+  for (const auto& limb_info : kLimbs) {
+    const LimbFit& limb = limbs[limb_info.part];
+    const bool arm = limb_info.part == kRightArm || limb_info.part == kLeftArm;
+    const Eigen::Vector3d proximal =
+        axes.toWorld(arm ? shoulder[limb_info.side] : hip[limb_info.side]);
+    const Eigen::Vector3d middle = axes.toWorld(limb.middle_joint);
+    const Eigen::Vector3d distal = axes.toWorld(limb.distal_end);
+    const int upper = limb_info.upper_segment, lower = upper + 1;
+    model.r[upper] = (middle - proximal).norm();
+    model.r[lower] = (distal - middle).norm();
+    setSegment(upper, (middle - proximal).normalized());
+    setSegment(lower, (distal - middle).normalized());
+    shape.proximal_radius[upper] = limb.upper_radius[0];
+    shape.distal_radius[upper] = limb.upper_radius[1];
+    shape.proximal_radius[lower] = limb.lower_radius[0];
+    shape.distal_radius[lower] = limb.lower_radius[1];
+    fit.joint_points.push_back({limb_info.proximal, proximal});
+    fit.joint_points.push_back({limb_info.middle, middle});
+    fit.joint_points.push_back({limb_info.distal, distal});
+  }
+  fit.joint_points.push_back({"head_top", axes.toWorld(upper_axis.atHeight(head_top))});
+  if (options.refine) {
+    Cloud without_feet;
+    without_feet.reserve(cloud.size());
+    const double foot_top = axes.lowest + options.foot_height * body_height;
+    for (size_t i = 0; i < cloud.size(); ++i)
+      if (model_points[i].y() > foot_top) without_feet.push_back(cloud[i]);
+    fit.refinement = refineModel(model, without_feet, options.refinement);
+  }
+  fit.quality = evaluateFit(model, cloud, options.quality);
+}
+
+}  // namespace
+
+BodyFit fitBody(const Cloud& cloud, const FitOptions& options) {
+  BodyFit fit;
+  fit.axes = estimateBodyAxes(cloud, options.axes);  // refuses clouds that are no body at all
+  try {
+    fitModel(cloud, options, fit);
+  } catch (const std::invalid_argument& not_a_body) {
+    // Shaped unlike a body (or parts missing): a standing template at the centroid, flagged.
+    fit.model = standingModel(std::max(fit.axes.height(), 0.5));
+    fit.model.p = poseVectorFromFrame(fit.axes.centroid, fit.axes.axes);
+    fit.quality = evaluateFit(fit.model, cloud, options.quality);
+    fit.quality.low_quality = true;
+    fit.quality.reason = std::string("not fitted: ") + not_a_body.what();
+  }
+  return fit;
+}
+
+}  // namespace body_gait

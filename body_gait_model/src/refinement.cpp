@@ -1,0 +1,154 @@
+// Whole-model refinement with Ceres: one cost function holds all sampled points; its Jacobian
+// is taken by forward differences over the 40 pose parameters (one forward kinematics per
+// parameter), far cheaper than differentiating every residual separately.
+#include <body_gait_model/refinement.h>
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace body_gait {
+namespace {
+
+struct AssignedPoint {
+  Eigen::Vector3d point;
+  int segment;
+};
+
+bool isTerminal(int segment) {
+  return segment == kHead || segment == kRightLowerArm || segment == kLeftLowerArm ||
+         segment == kRightLowerLeg || segment == kLeftLowerLeg;
+}
+
+BodyModel withParameters(const BodyModel& base, const double* p, const double* q, const double* r) {
+  BodyModel model = base;
+  model.p = Eigen::Map<const PoseVector>(p);
+  model.q = Eigen::Map<const JointAngles>(q);
+  // Free ends (head, lower arms, lower legs) keep their lengths: a surface distance does not pull
+  // an overlong cylinder back, so they would grow into the hands, feet and hair.
+  for (int segment = 0; segment < kSegmentCount; ++segment)
+    if (!isTerminal(segment)) model.r[segment] = r[segment];
+  return model;
+}
+
+void residualsOf(const BodyModel& model, const std::vector<AssignedPoint>& points,
+                 double* residuals) {
+  const PosedModel posed = forwardKinematics(model);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const PosedSegment& s = posed.segments[points[i].segment];
+    residuals[i] = taperedCylinderDistance(points[i].point, s.proximal, s.distal, s.proximal_radius,
+                                           s.distal_radius);
+  }
+}
+
+class SurfaceDistanceCost : public ceres::CostFunction {
+ public:
+  SurfaceDistanceCost(const BodyModel& base, const std::vector<AssignedPoint>& points)
+      : base_(base), points_(points) {
+    set_num_residuals(int(points.size()));
+    mutable_parameter_block_sizes()->push_back(6);
+    mutable_parameter_block_sizes()->push_back(22);
+    mutable_parameter_block_sizes()->push_back(12);
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const BodyModel model = withParameters(base_, parameters[0], parameters[1], parameters[2]);
+    residualsOf(model, points_, residuals);
+    if (!jacobians) return true;
+    constexpr double kStep = 1e-6;
+    const int sizes[3] = {6, 22, 12};
+    std::vector<double> shifted(points_.size());
+    for (int block = 0; block < 3; ++block) {
+      if (!jacobians[block]) continue;
+      for (int k = 0; k < sizes[block]; ++k) {
+        std::vector<double> copy[3] = {std::vector<double>(parameters[0], parameters[0] + 6),
+                                       std::vector<double>(parameters[1], parameters[1] + 22),
+                                       std::vector<double>(parameters[2], parameters[2] + 12)};
+        copy[block][k] += kStep;
+        residualsOf(withParameters(base_, copy[0].data(), copy[1].data(), copy[2].data()), points_,
+                    shifted.data());
+        for (size_t i = 0; i < points_.size(); ++i)
+          jacobians[block][i * sizes[block] + k] = (shifted[i] - residuals[i]) / kStep;
+      }
+    }
+    return true;
+  }
+
+ private:
+  BodyModel base_;
+  const std::vector<AssignedPoint>& points_;
+};
+
+std::vector<AssignedPoint> assign(const BodyModel& model, const Cloud& sample) {
+  const PosedModel posed = forwardKinematics(model);
+  std::vector<AssignedPoint> assigned;
+  for (const auto& point : sample) {
+    double best = std::numeric_limits<double>::infinity();
+    int best_segment = 0;
+    for (int s = 0; s < kSegmentCount; ++s) {
+      const PosedSegment& segment = posed.segments[s];
+      const double d = std::abs(taperedCylinderDistance(
+          point, segment.proximal, segment.distal, segment.proximal_radius, segment.distal_radius));
+      if (d < best) {
+        best = d;
+        best_segment = s;
+      }
+    }
+    assigned.push_back({point, best_segment});
+  }
+  return assigned;
+}
+
+double rms(const BodyModel& model, const std::vector<AssignedPoint>& points) {
+  std::vector<double> residuals(points.size());
+  residualsOf(model, points, residuals.data());
+  double sum = 0;
+  for (double r : residuals) sum += r * r;
+  return points.empty() ? 0.0 : std::sqrt(sum / points.size());
+}
+
+}  // namespace
+
+RefinementReport refineModel(BodyModel& model, const Cloud& cloud,
+                             const RefinementOptions& options) {
+  RefinementReport report;
+  if (cloud.empty() || options.sample_points < 1) return report;
+  Cloud sample;
+  const size_t stride = std::max<size_t>(1, cloud.size() / options.sample_points);
+  for (size_t i = 0; i < cloud.size(); i += stride) sample.push_back(cloud[i]);
+  report.initial_rms = rms(model, assign(model, sample));
+  for (int round = 0; round < options.rounds; ++round) {
+    const std::vector<AssignedPoint> assigned = assign(model, sample);
+    double p[6], q[22], r[12];
+    Eigen::Map<PoseVector>{p} = model.p;
+    Eigen::Map<JointAngles>{q} = model.q;
+    Eigen::Map<SegmentLengths>{r} = model.r;
+    ceres::Problem problem;
+    problem.AddResidualBlock(new SurfaceDistanceCost(model, assigned),
+                             new ceres::HuberLoss(options.huber_scale), p, q, r);
+    for (int segment = 0; segment < kSegmentCount; ++segment) {
+      const int index = jointAngleIndex(segment);
+      if (index < 0) continue;
+      const JointLimits limits = jointLimits(segment);
+      problem.SetParameterLowerBound(q, index, limits.x_min);
+      problem.SetParameterUpperBound(q, index, limits.x_max);
+      problem.SetParameterLowerBound(q, index + 1, limits.z_min);
+      problem.SetParameterUpperBound(q, index + 1, limits.z_max);
+    }
+    for (int i = 0; i < 12; ++i) problem.SetParameterLowerBound(r, i, options.min_length);
+    ceres::Solver::Options solver;
+    solver.max_num_iterations = options.max_iterations;
+    solver.linear_solver_type = ceres::DENSE_QR;
+    solver.num_threads = 1;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &problem, &summary);
+    report.iterations += int(summary.iterations.size());
+    model = withParameters(model, p, q, r);
+  }
+  report.final_rms = rms(model, assign(model, sample));
+  return report;
+}
+
+}  // namespace body_gait

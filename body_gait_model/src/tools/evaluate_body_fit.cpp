@@ -1,0 +1,137 @@
+// Evaluation CLI: fits simulated subjects in the four gait poses of 5.3 and compares each fit
+// with the simulator's true skeleton, printing one line per fit and a summary, and writing a
+// YAML report. Only this tool (and the tests) read ground truth; the fitter does not.
+//
+//   evaluate_body_fit [--subjects N] [--columns C] [--noise SIGMA_M] [--min-albedo A]
+//                     [--missing-viewpoints i,j,...] [--abduction-deg D] [--out report.yaml]
+#include <body_gait_model/body_fitter.h>
+#include <body_gait_model/eval/body_cloud_sampler.h>
+#include <body_scan_driver/atomic_file.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+#include <string>
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+[[noreturn]] void usage(const std::string& problem) {
+  std::fprintf(stderr,
+               "evaluate_body_fit: %s\nusage: evaluate_body_fit [--subjects N (>= 1)] [--columns "
+               "C (ray grid per viewpoint, >= 20)] [--noise SIGMA_M] [--min-albedo A] "
+               "[--missing-viewpoints i,j] [--abduction-deg D] [--out report.yaml]\n",
+               problem.c_str());
+  std::exit(2);
+}
+
+double number(const char* text, const std::string& flag) {
+  char* end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (end == text || *end != '\0') usage(flag + " needs a number, got '" + text + "'");
+  return value;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int subjects = 10;
+  std::string out;
+  double abduction_deg = -1;
+  body_gait::eval::ScanRig rig;
+  rig.noise_sigma = 0.002;
+  for (int i = 1; i < argc; ++i) {
+    const std::string flag = argv[i];
+    if (i + 1 >= argc) usage("missing value after " + flag);
+    const char* value = argv[++i];
+    if (flag == "--subjects") {
+      subjects = int(number(value, flag));
+    } else if (flag == "--columns") {
+      rig.columns = int(number(value, flag));
+      rig.rows = rig.columns * 13 / 16;
+    } else if (flag == "--noise") {
+      rig.noise_sigma = number(value, flag);
+    } else if (flag == "--min-albedo") {
+      rig.min_albedo = number(value, flag);
+    } else if (flag == "--missing-viewpoints") {
+      std::stringstream list(value);
+      std::string item;
+      while (std::getline(list, item, ',')) rig.missing_viewpoints.push_back(std::stoi(item));
+    } else if (flag == "--abduction-deg") {
+      abduction_deg = number(value, flag);
+    } else if (flag == "--out") {
+      out = value;
+    } else {
+      usage("unknown option " + flag);
+    }
+  }
+  if (subjects < 1 || rig.columns < 20) usage("--subjects must be >= 1 and --columns >= 20");
+
+  std::ostringstream yaml;
+  yaml << "cases:\n";
+  double joint = 0, length = 0, swing = 0, seconds = 0, points = 0;
+  int cases = 0, right = 0, low_quality = 0;
+  for (const auto& subject : body_gait::eval::simulatedSubjects(subjects)) {
+    for (int pose = 1; pose <= 4; ++pose) {
+      auto spec = subject;
+      spec.pose = body_gait::eval::gaitPose(pose, 0.3 + 1.7 * (pose + cases));
+      if (abduction_deg >= 0)
+        spec.pose.left_shoulder_abduction = spec.pose.right_shoulder_abduction =
+            abduction_deg * kPi / 180;
+      const auto body = body_gait::eval::sampleBody(spec, rig);
+      const auto start = std::chrono::steady_clock::now();
+      const body_gait::BodyFit fit = body_gait::fitBody(body.points);
+      const double fit_seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const auto errors = body_gait::eval::compareWithTruth(fit.model, body);
+      const bool heading_right = errors.front_right && errors.left_right;
+      std::printf(
+          "%s pose %d: %zu points, joint %.1f mm, length %.1f %%, swing %.2f deg, "
+          "front/left %s, RMS %.1f mm, explained %.0f %%%s, %.0f ms\n",
+          spec.name.c_str(), pose, body.points.size(), 1000 * errors.mean_joint_error,
+          100 * errors.mean_length_error, errors.mean_swing_error * 180 / kPi,
+          heading_right ? "right" : "WRONG", 1000 * fit.quality.rms_distance,
+          100 * fit.quality.explained_fraction, fit.quality.low_quality ? ", LOW QUALITY" : "",
+          1000 * fit_seconds);
+      yaml << "  - {subject: " << spec.name << ", pose: " << pose
+           << ", points: " << body.points.size() << ", joint_error_m: " << errors.mean_joint_error
+           << ", length_error: " << errors.mean_length_error
+           << ", swing_error_rad: " << errors.mean_swing_error
+           << ", heading_right: " << (heading_right ? "true" : "false")
+           << ", rms_m: " << fit.quality.rms_distance
+           << ", explained: " << fit.quality.explained_fraction
+           << ", low_quality: " << (fit.quality.low_quality ? "true" : "false")
+           << ", fit_seconds: " << fit_seconds << "}\n";
+      joint += errors.mean_joint_error;
+      length += errors.mean_length_error;
+      swing += errors.mean_swing_error;
+      seconds += fit_seconds;
+      points += double(body.points.size());
+      right += heading_right;
+      low_quality += fit.quality.low_quality;
+      ++cases;
+    }
+  }
+  std::printf(
+      "SUMMARY %d fits (%d subjects x 4 poses, mean %.0f points): mean joint-centre error "
+      "%.1f mm, segment-length error %.1f %%, swing-angle error %.2f deg, front/left right "
+      "%d/%d, low quality %d, %.0f ms per fit\n",
+      cases, subjects, points / cases, 1000 * joint / cases, 100 * length / cases,
+      swing / cases * 180 / kPi, right, cases, low_quality, 1000 * seconds / cases);
+  yaml << "summary: {fits: " << cases << ", mean_points: " << points / cases
+       << ", mean_joint_error_m: " << joint / cases << ", mean_length_error: " << length / cases
+       << ", mean_swing_error_rad: " << swing / cases << ", heading_right: " << right
+       << ", low_quality: " << low_quality << ", mean_fit_seconds: " << seconds / cases << "}\n";
+  if (!out.empty()) {
+    try {
+      body_scan::writeFileAtomically(out, yaml.str());
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
+      return 1;
+    }
+  }
+  return 0;
+}

@@ -1,0 +1,85 @@
+// Robustness of the fit (issue 5): one projector-camera pair missing and arms touching the
+// torso stay within 2x the joint-centre target (2 x 25 mm) with front/left right; dark hair
+// and trunks either fit within 2x or come back flagged low quality.
+#include <body_gait_model/body_fitter.h>
+#include <body_gait_model/eval/body_cloud_sampler.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <string>
+
+namespace body_gait {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kTwiceTheTarget = 0.050;  // m
+
+struct CaseResult {
+  double mean_joint_error = 0;
+  int right = 0, flagged = 0, cases = 0, unflagged_beyond_twice = 0;
+};
+
+CaseResult run(const std::string& name, const eval::ScanRig& rig,
+               const std::function<void(body_scan::sim::BodyPose&)>& adjust = {}) {
+  CaseResult result;
+  const auto subjects = eval::simulatedSubjects(4);
+  for (int s : {1, 2}) {
+    for (int pose = 1; pose <= 4; ++pose) {
+      auto spec = subjects[s];
+      spec.pose = eval::gaitPose(pose, 0.9 * pose - 2.0);
+      if (adjust) adjust(spec.pose);
+      const auto body = eval::sampleBody(spec, rig);
+      const BodyFit fit = fitBody(body.points);
+      const eval::FitErrors errors = eval::compareWithTruth(fit.model, body);
+      result.mean_joint_error += errors.mean_joint_error;
+      result.right += errors.front_right && errors.left_right;
+      result.flagged += fit.quality.low_quality;
+      result.unflagged_beyond_twice +=
+          !fit.quality.low_quality && errors.mean_joint_error > kTwiceTheTarget;
+      ++result.cases;
+    }
+  }
+  result.mean_joint_error /= result.cases;
+  std::printf(
+      "[ figure ] %s: mean joint-centre error %.1f mm, front/left right %d/%d, flagged "
+      "%d, unflagged beyond 50 mm %d\n",
+      name.c_str(), 1000 * result.mean_joint_error, result.right, result.cases, result.flagged,
+      result.unflagged_beyond_twice);
+  return result;
+}
+
+eval::ScanRig testRig() {
+  eval::ScanRig rig;
+  rig.columns = 180;
+  rig.rows = 146;
+  rig.noise_sigma = 0.002;
+  return rig;
+}
+
+TEST(BodyFitterRobustness, OnePairMissing) {
+  eval::ScanRig rig = testRig();
+  rig.missing_viewpoints = {5};  // pole 2, second height
+  const CaseResult result = run("one pair missing", rig);
+  EXPECT_EQ(result.right, result.cases);
+  EXPECT_LE(result.mean_joint_error, kTwiceTheTarget);
+}
+
+TEST(BodyFitterRobustness, ArmsTouchingTheTorso) {
+  const CaseResult result = run("arms touching the torso", testRig(), [](auto& pose) {
+    pose.left_shoulder_abduction = pose.right_shoulder_abduction = 0;
+  });
+  EXPECT_EQ(result.right, result.cases);
+  EXPECT_LE(result.mean_joint_error, kTwiceTheTarget);
+}
+
+TEST(BodyFitterRobustness, DarkHairAndTrunksAreFittedOrFlagged) {
+  eval::ScanRig rig = testRig();
+  rig.min_albedo = 0.3;  // hair and trunks (albedo 0.15) return no light
+  const CaseResult result = run("dark hair and trunks", rig);
+  EXPECT_EQ(result.right, result.cases);
+  EXPECT_EQ(result.unflagged_beyond_twice, 0);
+}
+
+}  // namespace
+}  // namespace body_gait

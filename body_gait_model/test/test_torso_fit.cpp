@@ -1,0 +1,72 @@
+// Torso cross-sections (5.5.2): polygon areas against analytic ellipses, interpolation over
+// holes, and the torso's ends and direction (eqs 5.5-5.8) against the simulator's skeleton.
+#include <body_gait_model/eval/body_cloud_sampler.h>
+#include <body_gait_model/torso_fit.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace body_gait {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::vector<Eigen::Vector2d> ellipse(double a, double b, double hole_from = 0, double hole_to = 0) {
+  std::vector<Eigen::Vector2d> points;
+  for (int i = 0; i < 3600; ++i) {
+    const double t = -kPi + 2 * kPi * i / 3600;
+    if (t >= hole_from && t < hole_to) continue;
+    points.emplace_back(a * std::cos(t), b * std::sin(t));
+  }
+  return points;
+}
+
+TEST(TorsoFit, CrossSectionAreaMatchesAnEllipseAndBridgesHoles) {
+  const double a = 0.18, b = 0.13, exact = kPi * a * b;
+  const CrossSection full = crossSection(ellipse(a, b), 0.0, 36);
+  EXPECT_EQ(full.filled_sectors, 36);
+  EXPECT_NEAR(full.area / exact, 1.0, 0.015);  // closest points: an inscribed polygon
+  EXPECT_LT(full.centre.norm(), 1e-3);
+  // A 60-degree hole (e.g. the side hidden under an arm): interpolated, within 3 %.
+  const CrossSection holed = crossSection(ellipse(a, b, 0.2, 0.2 + kPi / 3), 0.0, 36);
+  EXPECT_LE(holed.filled_sectors, 31);
+  std::printf("[ figure ] ellipse area error %.2f %% full, %.2f %% with a 60 deg hole\n",
+              100 * (full.area / exact - 1), 100 * (holed.area / exact - 1));
+  EXPECT_NEAR(holed.area / exact, 1.0, 0.03);
+  EXPECT_EQ(crossSection({{0.1, 0}, {0, 0.1}}, 0.0, 36).area, 0.0);  // < 3 sectors
+  EXPECT_THROW(crossSection({}, 0.0, 2), std::invalid_argument);
+}
+
+TEST(TorsoFit, TorsoEndsAndLeanMatchTheSimulatedBody) {
+  auto spec = eval::simulatedSubjects(2)[1];
+  eval::ScanRig rig;
+  rig.columns = 200;
+  rig.rows = 162;
+  for (double lean : {0.0, 0.2}) {
+    spec.pose = eval::gaitPose(2, 0.8);
+    spec.pose.torso_lean = lean;
+    const auto body = eval::sampleBody(spec, rig);
+    const BodyAxes axes = estimateBodyAxes(body.points);
+    std::vector<Eigen::Vector3d> model_points;
+    for (const auto& p : body.points) model_points.push_back(axes.toModel(p));
+    const TorsoFit torso = fitTorso(model_points, axes);
+    const double shoulder_line = axes.toModel(eval::trueJoint(body, "neck")).y();
+    const double hips = axes.toModel(eval::trueJoint(body, "pelvis")).y();
+    const double knees = axes.toModel(eval::trueJoint(body, "left_knee")).y();
+    // Upper torso: tilt of n_ut forward (toward +Z_m) against the true lean.
+    const double tilt = std::atan2(torso.upper_direction.z(), torso.upper_direction.y());
+    std::printf(
+        "[ figure ] lean %.1f deg: n_ut tilt %.1f deg; top %.0f mm above the shoulder "
+        "line, base %.0f mm below the hip joints\n",
+        lean * 180 / kPi, tilt * 180 / kPi, 1000 * (torso.top - shoulder_line),
+        1000 * (hips - torso.base));
+    EXPECT_NEAR(tilt, lean, 5 * kPi / 180);
+    EXPECT_GT(torso.top, shoulder_line - 0.05);  // the torso's top: about the neck's base
+    EXPECT_LT(torso.top, shoulder_line + 0.10);
+    EXPECT_LT(torso.base, hips);  // the lower torso ends at the crotch, above the knees
+    EXPECT_GT(torso.base, knees + 0.2);
+  }
+}
+
+}  // namespace
+}  // namespace body_gait
