@@ -187,17 +187,7 @@ FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,
   std::array<int, kSegmentCount> nearest{};
   for (size_t index = 0; index < cloud.size(); index += stride) {
     const Eigen::Vector3d& point = cloud[index];
-    double best = std::numeric_limits<double>::infinity();
-    int best_segment = 0;
-    for (int s = 0; s < kSegmentCount; ++s) {
-      const PosedSegment& segment = posed.segments[s];
-      const double d = std::abs(taperedCylinderDistance(
-          point, segment.proximal, segment.distal, segment.proximal_radius, segment.distal_radius));
-      if (d < best) {
-        best = d;
-        best_segment = s;
-      }
-    }
+    const auto [best_segment, best] = nearestSegment(posed, point);
     sum_squares += best * best;
     explained += best <= options.explained_distance;
     ++nearest[best_segment];

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace body_gait {
@@ -273,6 +274,17 @@ double taperedCylinderDistance(const Eigen::Vector3d& point, const Eigen::Vector
   const double distance = (x - (a + t * ab)).norm();
   const bool inside = axial >= 0 && axial <= length && radial < r0 + (r1 - r0) * axial / length;
   return inside ? -distance : distance;
+}
+
+NearestSegment nearestSegment(const PosedModel& posed, const Eigen::Vector3d& point) {
+  NearestSegment nearest{0, std::numeric_limits<double>::infinity()};
+  for (int s = 0; s < kSegmentCount; ++s) {
+    const PosedSegment& segment = posed.segments[s];
+    const double d = std::abs(taperedCylinderDistance(
+        point, segment.proximal, segment.distal, segment.proximal_radius, segment.distal_radius));
+    if (d < nearest.distance) nearest = {s, d};
+  }
+  return nearest;
 }
 
 }  // namespace body_gait

@@ -85,17 +85,7 @@ std::vector<AssignedPoint> assign(const BodyModel& model, const Cloud& sample) {
   const PosedModel posed = forwardKinematics(model);
   std::vector<AssignedPoint> assigned;
   for (const auto& point : sample) {
-    double best = std::numeric_limits<double>::infinity();
-    int best_segment = 0;
-    for (int s = 0; s < kSegmentCount; ++s) {
-      const PosedSegment& segment = posed.segments[s];
-      const double d = std::abs(taperedCylinderDistance(
-          point, segment.proximal, segment.distal, segment.proximal_radius, segment.distal_radius));
-      if (d < best) {
-        best = d;
-        best_segment = s;
-      }
-    }
+    const int best_segment = nearestSegment(posed, point).segment;
     assigned.push_back({point, best_segment});
   }
   return assigned;

@@ -26,12 +26,47 @@ std::vector<double> readMatrix(const YAML::Node& root, const std::string& key, s
   return data.as<std::vector<double>>();
 }
 
-}  // namespace
+// The camera part (camera_calibration_parsers keys) of a camera or pair calibration file.
+PinholeCamera readCameraPart(YAML::Node root, const std::string& path) {
+  PinholeCamera camera;
+  camera.width = root["image_width"].as<int>();
+  camera.height = root["image_height"].as<int>();
+  const std::vector<double> k = readMatrix(root, "camera_matrix", 9, path);
+  camera.alpha = k[0], camera.gamma = k[1], camera.u0 = k[2], camera.beta = k[4], camera.v0 = k[5];
+  const std::string model = root["distortion_model"].as<std::string>("plumb_bob");
+  if (model != "plumb_bob")
+    throw CalibrationFileError("calibration file '" + path + "': distortion_model '" + model +
+                               "' is not supported; use plumb_bob with k1, k2 only");
+  const std::vector<double> d = root["distortion_coefficients"]["data"].as<std::vector<double>>();
+  if (d.size() < 2)
+    throw CalibrationFileError("calibration file '" + path +
+                               "': distortion_coefficients needs at least k1, k2");
+  camera.k1 = d[0], camera.k2 = d[1];
+  for (size_t i = 2; i < d.size(); ++i)
+    if (d[i] != 0)
+      throw CalibrationFileError("calibration file '" + path +
+                                 "': only radial k1, k2 are modelled (eq 3.3); the tangential "
+                                 "and k3 coefficients must be 0");
+  if (camera.width <= 0 || camera.height <= 0 || !(camera.alpha > 0) || !(camera.beta > 0))
+    throw CalibrationFileError("calibration file '" + path +
+                               "': image size and focal lengths must be positive");
+  return camera;
+}
 
-PairCalibration loadCalibration(const std::string& path) {
-  YAML::Node root;
+void writeCameraPart(YAML::Node& root, const PinholeCamera& c) {
+  root["image_width"] = c.width;
+  root["image_height"] = c.height;
+  root["camera_matrix"] = matrixNode(3, 3, {c.alpha, c.gamma, c.u0, 0, c.beta, c.v0, 0, 0, 1});
+  root["distortion_model"] = "plumb_bob";
+  root["distortion_coefficients"] = matrixNode(1, 5, {c.k1, c.k2, 0, 0, 0});
+  root["rectification_matrix"] = matrixNode(3, 3, {1, 0, 0, 0, 1, 0, 0, 0, 1});
+  root["projection_matrix"] =
+      matrixNode(3, 4, {c.alpha, c.gamma, c.u0, 0, 0, c.beta, c.v0, 0, 0, 0, 1, 0});
+}
+
+YAML::Node loadYamlFile(const std::string& path) {
   try {
-    root = YAML::LoadFile(path);
+    return YAML::LoadFile(path);
   } catch (const YAML::BadFile&) {
     throw CalibrationFileError("calibration file '" + path +
                                "' not found: calibrate the pair, or start the simulated pair "
@@ -39,30 +74,17 @@ PairCalibration loadCalibration(const std::string& path) {
   } catch (const YAML::Exception& e) {
     throw CalibrationFileError("calibration file '" + path + "' is not valid YAML: " + e.what());
   }
+}
+
+}  // namespace
+
+PairCalibration loadCalibration(const std::string& path) {
+  YAML::Node root = loadYamlFile(path);  // non-const: a missing key must read as null, not throw
   try {
     PairCalibration calibration;
     calibration.pair_id = root["camera_name"].as<std::string>("");
     calibration.source = root["source"].as<std::string>("");
-    PinholeCamera& camera = calibration.camera;
-    camera.width = root["image_width"].as<int>();
-    camera.height = root["image_height"].as<int>();
-    const std::vector<double> k = readMatrix(root, "camera_matrix", 9, path);
-    camera.alpha = k[0], camera.gamma = k[1], camera.u0 = k[2], camera.beta = k[4],
-    camera.v0 = k[5];
-    const std::string model = root["distortion_model"].as<std::string>("plumb_bob");
-    if (model != "plumb_bob")
-      throw CalibrationFileError("calibration file '" + path + "': distortion_model '" + model +
-                                 "' is not supported; use plumb_bob with k1, k2 only");
-    const std::vector<double> d = root["distortion_coefficients"]["data"].as<std::vector<double>>();
-    if (d.size() < 2)
-      throw CalibrationFileError("calibration file '" + path +
-                                 "': distortion_coefficients needs at least k1, k2");
-    camera.k1 = d[0], camera.k2 = d[1];
-    for (size_t i = 2; i < d.size(); ++i)
-      if (d[i] != 0)
-        throw CalibrationFileError("calibration file '" + path +
-                                   "': only radial k1, k2 are modelled (eq 3.3); the tangential "
-                                   "and k3 coefficients must be 0");
+    calibration.camera = readCameraPart(root, path);
     const YAML::Node planes = root["projector"]["planes"];
     if (!planes || !planes.IsSequence() || planes.size() < 2)
       throw CalibrationFileError(
@@ -102,19 +124,31 @@ PairCalibration loadCalibration(const std::string& path) {
   }
 }
 
+PinholeCamera loadCameraPart(const std::string& path) {
+  YAML::Node root = loadYamlFile(path);  // non-const: a missing key must read as null, not throw
+  try {
+    return readCameraPart(root, path);
+  } catch (const YAML::Exception& e) {
+    throw CalibrationFileError("calibration file '" + path + "' is missing a field or has a " +
+                               "wrong type (" + e.what() + ")");
+  }
+}
+
+std::string cameraPartYaml(const std::string& camera_name, const PinholeCamera& camera) {
+  YAML::Node root;
+  root["camera_name"] = camera_name;
+  writeCameraPart(root, camera);
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << root;
+  return std::string(out.c_str()) + "\n";
+}
+
 void saveCalibration(const std::string& path, const PairCalibration& calibration) {
-  const PinholeCamera& c = calibration.camera;
   YAML::Node root;
   root["camera_name"] = calibration.pair_id;
   root["source"] = calibration.source;
-  root["image_width"] = c.width;
-  root["image_height"] = c.height;
-  root["camera_matrix"] = matrixNode(3, 3, {c.alpha, c.gamma, c.u0, 0, c.beta, c.v0, 0, 0, 1});
-  root["distortion_model"] = "plumb_bob";
-  root["distortion_coefficients"] = matrixNode(1, 5, {c.k1, c.k2, 0, 0, 0});
-  root["rectification_matrix"] = matrixNode(3, 3, {1, 0, 0, 0, 1, 0, 0, 0, 1});
-  root["projection_matrix"] =
-      matrixNode(3, 4, {c.alpha, c.gamma, c.u0, 0, 0, c.beta, c.v0, 0, 0, 0, 1, 0});
+  writeCameraPart(root, calibration.camera);
   YAML::Node projector;
   projector["model"] = "stripe_planes";
   projector["stripe_count"] = calibration.projector.stripeCount();

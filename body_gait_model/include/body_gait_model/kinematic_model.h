@@ -130,4 +130,11 @@ BodyModel clampToJointLimits(BodyModel model);
 double taperedCylinderDistance(const Eigen::Vector3d& point, const Eigen::Vector3d& proximal,
                                const Eigen::Vector3d& distal, double r0, double r1);
 
+// The segment whose surface is nearest to `point`, with the unsigned distance to it.
+struct NearestSegment {
+  int segment;
+  double distance;
+};
+NearestSegment nearestSegment(const PosedModel& posed, const Eigen::Vector3d& point);
+
 }  // namespace body_gait
