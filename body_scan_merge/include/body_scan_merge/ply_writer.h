@@ -11,7 +11,8 @@ namespace body_scan {
 // Points are read as `stride` floats apart: x, y, z at offsets 0..2 and, when rgb_offset >= 0,
 // a PCL-style packed rgb float at rgb_offset. Non-finite points are skipped. The file is
 // written to a temporary name and renamed, so readers never see half a file. Returns the
-// number of points written; throws FileWriteError (a std::runtime_error) naming the path on failure.
+// number of points written; throws FileWriteError (a std::runtime_error) naming the path on
+// failure.
 size_t writePly(const std::string& path, const float* points, size_t count, size_t stride,
                 int rgb_offset);
 
