@@ -24,15 +24,17 @@ std::string poseFolderName(int pose) {
   return name;
 }
 
+void writePngAtomically(const std::string& path, const cv::Mat& image) {
+  std::vector<uchar> png;
+  if (image.empty() || !cv::imencode(".png", image, png))
+    throw std::runtime_error("cannot encode " + path +
+                             " as PNG: it must be a non-empty 8-bit image");
+  writeFileAtomically(path, std::string(png.begin(), png.end()));
+}
+
 void savePatternFrames(const std::string& folder, const std::vector<cv::Mat>& frames) {
-  for (size_t f = 0; f < frames.size(); ++f) {
-    std::vector<uchar> png;
-    if (!cv::imencode(".png", frames[f], png))
-      throw std::runtime_error("cannot encode frame " + std::to_string(f) + " for " + folder +
-                               " as PNG: frames must be 8-bit images");
-    writeFileAtomically((fs::path(folder) / frameName(f)).string(),
-                        std::string(png.begin(), png.end()));
-  }
+  for (size_t f = 0; f < frames.size(); ++f)
+    writePngAtomically((fs::path(folder) / frameName(f)).string(), frames[f]);
 }
 
 std::vector<cv::Mat> loadPatternFrames(const std::string& folder, const PatternLayout& layout) {

@@ -1,6 +1,7 @@
 // align_world: aligns every pair to the world frame with the calibration cylinder (thesis
 // sec. 4.3.2) and reports E_h (eq 4.2, Table 4.2). Live against the simulator (the cylinder
 // scene is loaded, each pair renders its pattern set) or offline from an image folder.
+#include <body_scan_calib/capture_folder.h>
 #include <body_scan_calib/cylinder_target.h>
 #include <body_scan_calib/world_alignment.h>
 #include <body_scan_driver/atomic_file.h>
@@ -81,17 +82,8 @@ std::optional<PairCalibration> calibrationFromDir(const std::string& dir,
 
 void saveCapture(const Capture& capture, const std::string& dir) {
   const std::string folder = dir + "/" + fileStem(capture.pair_id);
-  fs::create_directories(folder);
-  for (size_t i = 0; i < capture.frames.size(); ++i) {
-    std::ostringstream name;
-    name << folder << "/frame_" << std::setw(2) << std::setfill('0') << i << ".png";
-    std::vector<uchar> png;
-    cv::imencode(".png", capture.frames[i], png);
-    writeFileAtomically(name.str(), std::string(png.begin(), png.end()));
-  }
-  std::vector<uchar> png;
-  cv::imencode(".png", capture.gray, png);
-  writeFileAtomically(folder + "/texture.png", std::string(png.begin(), png.end()));
+  calib::savePatternFrames(folder, capture.frames);
+  calib::writePngAtomically(folder + "/texture.png", capture.gray);
   YAML::Emitter out;
   out << YAML::BeginMap << YAML::Key << "pair_id" << YAML::Value << capture.pair_id << YAML::Key
       << "bits" << YAML::Value << capture.layout.bits() << YAML::Key << "inverse_frames"
@@ -157,15 +149,7 @@ std::vector<Capture> captureOffline(const Options& options) {
     capture.layout = PatternLayout(info["bits"].as<int>(8), info["inverse_frames"].as<bool>(true));
     std::cout << "[" << i + 1 << "/" << folders.size() << "] " << capture.pair_id << ": reading "
               << folders[i].string() << "\n";
-    for (int f = 0; f < capture.layout.frameCount(); ++f) {
-      std::ostringstream name;
-      name << "frame_" << std::setw(2) << std::setfill('0') << f << ".png";
-      cv::Mat frame = cv::imread((folders[i] / name.str()).string(), cv::IMREAD_GRAYSCALE);
-      if (frame.empty())
-        throw std::runtime_error("missing or unreadable " + (folders[i] / name.str()).string() +
-                                 ": the folder needs every frame of the pattern set");
-      capture.frames.push_back(frame);
-    }
+    capture.frames = calib::loadPatternFrames(folders[i].string(), capture.layout);
     capture.gray = cv::imread((folders[i] / "texture.png").string(), cv::IMREAD_GRAYSCALE);
     if (capture.gray.empty())
       throw std::runtime_error("missing " + (folders[i] / "texture.png").string());
@@ -282,9 +266,7 @@ void writePlot(const std::string& path, const std::vector<AlignedPair>& pairs,
               0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   cv::putText(image, heights.str(), {panel.x, panel.y + panel.height + 40},
               cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  std::vector<uchar> png;
-  cv::imencode(".png", image, png);
-  writeFileAtomically(path, std::string(png.begin(), png.end()));
+  calib::writePngAtomically(path, image);
 }
 
 int run(const Options& options) {

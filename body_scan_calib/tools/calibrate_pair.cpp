@@ -94,12 +94,6 @@ Arguments parse(int argc, char** argv) {
 
 void progress(const std::string& message) { std::cout << "  " << message << std::endl; }
 
-void writePng(const std::string& path, const cv::Mat& image) {
-  std::vector<uchar> png;
-  cv::imencode(".png", image, png);
-  writeFileAtomically(path, std::string(png.begin(), png.end()));
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -223,8 +217,9 @@ int main(int argc, char** argv) {
     }
     writeFileAtomically(arguments.report, calib::accuracyReportYaml(outcome, evaluations, notes));
     std::cout << "wrote " << arguments.report << std::endl;
-    writePng(arguments.plot, calib::plotProjectorParameters(outcome.calibration.projector,
-                                                            truth ? &truth->projector : nullptr));
+    calib::writePngAtomically(arguments.plot,
+                              calib::plotProjectorParameters(outcome.calibration.projector,
+                                                             truth ? &truth->projector : nullptr));
     std::cout << "wrote " << arguments.plot << " ("
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
               << " s)" << std::endl;

@@ -14,6 +14,10 @@ namespace body_scan::calib {
 
 std::string poseFolderName(int pose);  // "pose_00"
 
+// Writes an 8-bit image as a PNG file atomically (body_scan::writeFileAtomically), creating the
+// folder. Throws std::runtime_error if the image cannot be encoded as PNG.
+void writePngAtomically(const std::string& path, const cv::Mat& image);
+
 // Writes frames as 8-bit PNG files (each atomically) into folder, creating it.
 void savePatternFrames(const std::string& folder, const std::vector<cv::Mat>& frames);
 
