@@ -1,9 +1,105 @@
 #include <body_scan_calib/calibration_rig.h>
 
 #include <cmath>
+#include <cstdio>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 #include <stdexcept>
+
+namespace body_scan::calib {
+namespace {
+
+// Full precision: the scene the driver parses must be the rig's scene to the last bit.
+std::string yamlVector(const Eigen::Vector3d& v) {
+  char text[96];
+  std::snprintf(text, sizeof(text), "[%.17g, %.17g, %.17g]", v.x(), v.y(), v.z());
+  return text;
+}
+
+std::string yamlNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.17g", value);
+  return text;
+}
+
+}  // namespace
+
+std::string boardSceneYaml(const Checkerboard& board,
+                           const Eigen::Isometry3d& board_center_in_camera,
+                           const Eigen::Isometry3d& world_from_camera) {
+  // The printed side faces the camera (normal = the board's -z). It is mounted on a larger white
+  // panel 3 mm behind it: the light border a checker detector needs (only the board's own
+  // pixels are lifted by the calibration).
+  const Eigen::Isometry3d world_from_board = world_from_camera * board_center_in_camera;
+  const Eigen::Vector3d normal = -world_from_board.linear().col(2);
+  const double panel_half_extent = 0.5 * (board.inner_cols + 1) * board.square_size + 0.1;
+  std::ostringstream yaml;
+  yaml << "# reference board of the calibration rig (body_scan_calib calibration_capture.h)\n"
+       << "objects:\n"
+       << "  - type: checkerboard\n"
+       << "    name: reference_board\n"
+       << "    center: " << yamlVector(world_from_board.translation()) << "\n"
+       << "    normal: " << yamlVector(normal) << "\n"
+       << "    axis_u: " << yamlVector(world_from_board.linear().col(0)) << "\n"
+       << "    cols: " << board.inner_cols + 1 << "\n"
+       << "    rows: " << board.inner_rows + 1 << "\n"
+       << "    square_size: " << yamlNumber(board.square_size) << "\n"
+       << "    light_albedo: " << yamlNumber(rig::kBoardLightAlbedo) << "\n"
+       << "    dark_albedo: " << yamlNumber(rig::kBoardDarkAlbedo) << "\n"
+       << "  - type: plane\n"
+       << "    name: board_panel\n"
+       << "    point: " << yamlVector(world_from_board * Eigen::Vector3d(0, 0, 0.003)) << "\n"
+       << "    normal: " << yamlVector(normal) << "\n"
+       << "    albedo: " << yamlNumber(rig::kBoardLightAlbedo) << "\n"
+       << "    color: [0.9, 0.9, 0.9]\n"
+       << "    half_extent: " << yamlNumber(panel_half_extent) << "\n";
+  return yaml.str();
+}
+
+std::string sphereSceneYaml(const std::vector<Eigen::Vector3d>& centers_in_camera, double radius,
+                            const Eigen::Isometry3d& world_from_camera) {
+  std::ostringstream yaml;
+  yaml << "# evaluation spheres of the calibration rig (thesis sec. 3.4.2, Fig 3.7)\n"
+       << "objects:\n";
+  for (size_t i = 0; i < centers_in_camera.size(); ++i)
+    yaml << "  - type: sphere\n"
+         << "    name: sphere_" << i + 1 << "\n"
+         << "    center: " << yamlVector(world_from_camera * centers_in_camera[i]) << "\n"
+         << "    radius: " << yamlNumber(radius) << "\n"
+         << "    albedo: 0.7\n"
+         << "    color: [0.8, 0.8, 0.8]\n";
+  return yaml.str();
+}
+
+std::vector<cv::Mat> averageCaptures(const std::vector<std::vector<cv::Mat>>& captures) {
+  if (captures.empty()) throw std::invalid_argument("no captures to average");
+  if (captures.size() == 1) return captures.front();
+  const std::vector<cv::Mat>& first = captures.front();
+  std::vector<cv::Mat> sums(first.size());
+  for (size_t c = 0; c < captures.size(); ++c) {
+    if (captures[c].size() != first.size())
+      throw std::invalid_argument("capture " + std::to_string(c) + " has " +
+                                  std::to_string(captures[c].size()) + " frames, capture 0 has " +
+                                  std::to_string(first.size()) +
+                                  ": repeated captures of one placement must use one pattern set");
+    for (size_t f = 0; f < first.size(); ++f) {
+      const cv::Mat& frame = captures[c][f];
+      if (frame.size() != first[f].size() || frame.type() != CV_8UC1)
+        throw std::invalid_argument("capture " + std::to_string(c) + " frame " + std::to_string(f) +
+                                    " is not an 8-bit grey image of the first capture's size");
+      if (sums[f].empty()) sums[f] = cv::Mat::zeros(frame.size(), CV_32F);
+      cv::accumulate(frame, sums[f]);
+    }
+  }
+  std::vector<cv::Mat> frames(sums.size());
+  for (size_t f = 0; f < sums.size(); ++f)
+    sums[f].convertTo(frames[f], CV_8U, 1.0 / static_cast<double>(captures.size()));
+  return frames;
+}
+
+// Removes FOLDER/pose_NN and FOLDER/spheres (only the capture layout's own folders).
+}  // namespace body_scan::calib
 
 namespace body_scan::calib::rig {
 namespace {
@@ -44,20 +140,8 @@ std::vector<Eigen::Isometry3d> defaultBoardPoses() {
 std::shared_ptr<sim::Scene> boardScene(const Checkerboard& board,
                                        const Eigen::Isometry3d& board_center_in_camera,
                                        const Eigen::Isometry3d& world_from_camera) {
-  const Eigen::Isometry3d world_from_board = world_from_camera * board_center_in_camera;
-  auto scene = std::make_shared<sim::Scene>();
-  // The board's printed side faces the camera: its normal is the board's -z.
-  scene->add(std::make_unique<sim::CheckerboardPlane>(
-      world_from_board.translation(), -world_from_board.linear().col(2),
-      world_from_board.linear().col(0), board.inner_cols + 1, board.inner_rows + 1,
-      board.square_size, kBoardLightAlbedo, kBoardDarkAlbedo));
-  // The board is mounted on a larger white panel 3 mm behind it: the light border a checker
-  // detector needs (the board's own pixels are the only ones the calibration lifts).
-  const double panel_half_extent = 0.5 * (board.inner_cols + 1) * board.square_size + 0.1;
-  scene->add(std::make_unique<sim::Plane>(
-      world_from_board * Eigen::Vector3d(0, 0, 0.003), -world_from_board.linear().col(2),
-      sim::Material{kBoardLightAlbedo, {0.9, 0.9, 0.9}}, panel_half_extent));
-  return scene;
+  return std::make_shared<sim::Scene>(
+      sim::parseScene(boardSceneYaml(board, board_center_in_camera, world_from_camera)));
 }
 
 std::vector<Eigen::Vector3d> defaultSphereCenters() {
@@ -70,30 +154,18 @@ std::vector<Eigen::Vector3d> defaultSphereCenters() {
 
 std::shared_ptr<sim::Scene> sphereScene(const std::vector<Eigen::Vector3d>& centers_in_camera,
                                         double radius, const Eigen::Isometry3d& world_from_camera) {
-  auto scene = std::make_shared<sim::Scene>();
-  for (const Eigen::Vector3d& center : centers_in_camera)
-    scene->add(std::make_unique<sim::Sphere>(world_from_camera * center, radius,
-                                             sim::Material{0.7, {0.8, 0.8, 0.8}}));
-  return scene;
+  return std::make_shared<sim::Scene>(
+      sim::parseScene(sphereSceneYaml(centers_in_camera, radius, world_from_camera)));
 }
 
 std::vector<cv::Mat> captureAveraged(const sim::VirtualPair& pair, int exposures,
                                      uint32_t first_scan_id) {
   if (exposures < 1)
     throw std::invalid_argument("exposures must be >= 1 (got " + std::to_string(exposures) + ")");
-  std::vector<cv::Mat> sums;
-  for (int exposure = 0; exposure < exposures; ++exposure) {
-    const sim::RenderedPatternSet set = pair.render(first_scan_id + exposure);
-    if (exposures == 1) return set.frames;
-    sums.resize(set.frames.size());
-    for (size_t f = 0; f < set.frames.size(); ++f) {
-      if (sums[f].empty()) sums[f] = cv::Mat::zeros(set.frames[f].size(), CV_32F);
-      cv::accumulate(set.frames[f], sums[f]);
-    }
-  }
-  std::vector<cv::Mat> frames(sums.size());
-  for (size_t f = 0; f < sums.size(); ++f) sums[f].convertTo(frames[f], CV_8U, 1.0 / exposures);
-  return frames;
+  std::vector<std::vector<cv::Mat>> captures;
+  for (int exposure = 0; exposure < exposures; ++exposure)
+    captures.push_back(pair.render(first_scan_id + exposure).frames);
+  return averageCaptures(captures);
 }
 
 }  // namespace body_scan::calib::rig

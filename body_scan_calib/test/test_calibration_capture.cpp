@@ -1,5 +1,5 @@
 // The capture side of the calibration workflow: the rig's targets as scene files render
-// exactly like the rig's in-process scenes, averaging matches rig::captureAveraged, and a bag
+// exactly like the intended simulator objects, averaging matches rig::captureAveraged, and a bag
 // of pattern sets converts to the image folder frame for frame.
 #include <body_scan_calib/calibration_bag.h>
 #include <body_scan_calib/calibration_capture.h>
@@ -41,31 +41,53 @@ fs::path freshFolder(const std::string& name) {
 
 }  // namespace
 
-TEST(CalibrationCapture, BoardSceneFileRendersLikeTheRigScene) {
+// The rig's targets are defined once, as scene-file text (what ~set_scene receives); these
+// scenes, built here from simulator objects as the rig intends them, must render identically.
+TEST(CalibrationCapture, BoardSceneFileRendersTheBoardOnItsPanel) {
   const sim::VirtualPairConfig config = smallPair();
   const calib::Checkerboard board = calib::referenceBoard();
   const Eigen::Isometry3d pose = calib::rig::defaultBoardPoses()[2];
-  const sim::VirtualPair from_rig(config,
-                                  calib::rig::boardScene(board, pose, config.world_from_camera));
+  const Eigen::Isometry3d world_from_board = config.world_from_camera * pose;
+  const Eigen::Vector3d facing_camera = -world_from_board.linear().col(2);
+  auto intended = std::make_shared<sim::Scene>();
+  intended->add(std::make_unique<sim::CheckerboardPlane>(
+      world_from_board.translation(), facing_camera, world_from_board.linear().col(0),
+      board.inner_cols + 1, board.inner_rows + 1, board.square_size, calib::rig::kBoardLightAlbedo,
+      calib::rig::kBoardDarkAlbedo));
+  intended->add(std::make_unique<sim::Plane>(  // white panel 3 mm behind the board
+      world_from_board * Eigen::Vector3d(0, 0, 0.003), facing_camera,
+      sim::Material{calib::rig::kBoardLightAlbedo, {0.9, 0.9, 0.9}},
+      0.5 * (board.inner_cols + 1) * board.square_size + 0.1));
+  const sim::VirtualPair from_objects(config, intended);
   const sim::VirtualPair from_yaml(
       config, std::make_shared<sim::Scene>(
                   sim::parseScene(calib::boardSceneYaml(board, pose, config.world_from_camera))));
-  const sim::RenderedPatternSet expected = from_rig.render(7);
+  const sim::RenderedPatternSet expected = from_objects.render(7);
   const sim::RenderedPatternSet actual = from_yaml.render(7);
   // The board is in view: a good share of the pixels sees it (else the comparison is empty).
   EXPECT_GT(cv::countNonZero(expected.truth.surface == 0), 20000);
   EXPECT_EQ(differingPixels(expected.frames, actual.frames), 0);
+  // rig::boardScene is that same text.
+  EXPECT_EQ(differingPixels(expected.frames,
+                            sim::VirtualPair(config, calib::rig::boardScene(
+                                                         board, pose, config.world_from_camera))
+                                .render(7)
+                                .frames),
+            0);
 }
 
-TEST(CalibrationCapture, SphereSceneFileRendersLikeTheRigScene) {
+TEST(CalibrationCapture, SphereSceneFileRendersTheFiveSpheres) {
   const sim::VirtualPairConfig config = smallPair();
   const auto centers = calib::rig::defaultSphereCenters();
-  const sim::VirtualPair from_rig(
-      config, calib::rig::sphereScene(centers, 0.025, config.world_from_camera));
+  auto intended = std::make_shared<sim::Scene>();
+  for (const Eigen::Vector3d& center : centers)
+    intended->add(std::make_unique<sim::Sphere>(config.world_from_camera * center, 0.025,
+                                                sim::Material{0.7, {0.8, 0.8, 0.8}}));
+  const sim::VirtualPair from_objects(config, intended);
   const sim::VirtualPair from_yaml(
       config, std::make_shared<sim::Scene>(sim::parseScene(
                   calib::sphereSceneYaml(centers, 0.025, config.world_from_camera))));
-  const sim::RenderedPatternSet expected = from_rig.render(3);
+  const sim::RenderedPatternSet expected = from_objects.render(3);
   for (int sphere = 0; sphere < 5; ++sphere)
     EXPECT_GT(cv::countNonZero(expected.truth.surface == sphere), 500) << "sphere " << sphere;
   EXPECT_EQ(differingPixels(expected.frames, from_yaml.render(3).frames), 0);

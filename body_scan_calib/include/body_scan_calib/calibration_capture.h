@@ -6,6 +6,7 @@
 // with frames in PatternLayout order (capture_folder.h). ROS-agnostic.
 #pragma once
 
+#include <body_scan_calib/calibration_rig.h>  // the rig's scene text and averaging
 #include <body_scan_calib/pair_calibration_pipeline.h>
 
 #include <Eigen/Geometry>
@@ -15,20 +16,6 @@
 #include <vector>
 
 namespace body_scan::calib {
-
-// Scene-file text (body_scan_driver/config/scenes format) of the rig's board scene: the same
-// surfaces as rig::boardScene (the printed board on its white panel), world frame.
-std::string boardSceneYaml(const Checkerboard& board,
-                           const Eigen::Isometry3d& board_center_in_camera,
-                           const Eigen::Isometry3d& world_from_camera);
-// Likewise for rig::sphereScene (the evaluation spheres).
-std::string sphereSceneYaml(const std::vector<Eigen::Vector3d>& centers_in_camera, double radius,
-                            const Eigen::Isometry3d& world_from_camera);
-
-// Per-pattern mean of repeated captures of a static target (8-bit, rounded): sensor noise
-// down by sqrt(count), the protocol of rig::captureAveraged. Throws std::invalid_argument if
-// the captures are empty or differ in frame count, size or type.
-std::vector<cv::Mat> averageCaptures(const std::vector<std::vector<cv::Mat>>& captures);
 
 // The folder of the evaluation spheres beside the pose_NN folders (capture_folder.h writes
 // and reads the frames: savePatternFrames, loadPatternFrames).

@@ -11,7 +11,27 @@
 #include <cstdint>
 #include <memory>
 #include <opencv2/core/mat.hpp>
+#include <string>
 #include <vector>
+
+namespace body_scan::calib {
+
+// Scene-file text (body_scan_driver/config/scenes format) of the rig's board scene: the one
+// definition of the rig's board scene (rig::boardScene parses it), world frame; also what the
+// simulated pair's ~set_scene service receives.
+std::string boardSceneYaml(const Checkerboard& board,
+                           const Eigen::Isometry3d& board_center_in_camera,
+                           const Eigen::Isometry3d& world_from_camera);
+// Likewise for the evaluation spheres (rig::sphereScene).
+std::string sphereSceneYaml(const std::vector<Eigen::Vector3d>& centers_in_camera, double radius,
+                            const Eigen::Isometry3d& world_from_camera);
+
+// Per-pattern mean of repeated captures of a static target (8-bit, rounded): sensor noise
+// down by sqrt(count); rig::captureAveraged uses it. Throws std::invalid_argument if
+// the captures are empty or differ in frame count, size or type.
+std::vector<cv::Mat> averageCaptures(const std::vector<std::vector<cv::Mat>>& captures);
+
+}  // namespace body_scan::calib
 
 namespace body_scan::calib::rig {
 
