@@ -1,0 +1,89 @@
+// full_scanner.launch headless: one /body_scan/capture gives one merged cloud of the default
+// subject with every pair present, 500 000 to 1 000 000 points, all in the scan volume of the
+// world frame, and a scan report that accounts for them.
+#include <body_scan_msgs/Scan.h>
+#include <body_scan_msgs/ScanReport.h>
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+
+#include <cmath>
+#include <mutex>
+
+namespace {
+
+std::mutex mutex;
+sensor_msgs::PointCloud2ConstPtr last_cloud;
+body_scan_msgs::ScanReportConstPtr last_report;
+
+}  // namespace
+
+TEST(FullScanner, OneScanGivesOneWholeBodyCloudFromEveryPair) {
+  ros::NodeHandle nh, pnh("~");
+  const int min_points = pnh.param("min_points", 500000);
+  const int max_points = pnh.param("max_points", 1000000);
+  const int expected_pairs = pnh.param("expected_pairs", 12);
+  ros::Subscriber cloud_sub = nh.subscribe<sensor_msgs::PointCloud2>(
+      "/body_scan/cloud", 1, [](const sensor_msgs::PointCloud2ConstPtr& cloud) {
+        std::lock_guard<std::mutex> lock(mutex);
+        last_cloud = cloud;
+      });
+  ros::Subscriber report_sub = nh.subscribe<body_scan_msgs::ScanReport>(
+      "/body_scan/scan_report", 1, [](const body_scan_msgs::ScanReportConstPtr& report) {
+        std::lock_guard<std::mutex> lock(mutex);
+        last_report = report;
+      });
+  ASSERT_TRUE(ros::service::waitForService("/body_scan/capture", ros::Duration(60)))
+      << "/body_scan/capture not advertised: is the ScanCoordinator running?";
+
+  const ros::WallTime start = ros::WallTime::now();
+  body_scan_msgs::Scan scan;
+  ASSERT_TRUE(ros::service::call("/body_scan/capture", scan));
+  EXPECT_TRUE(scan.response.success) << scan.response.message;
+  EXPECT_TRUE(scan.response.pairs_missing.empty());
+  std::cout << "[ figure ] " << scan.response.groups.size() << " timing groups, simulated capture "
+            << scan.response.simulated_capture_seconds << " s; capture call took "
+            << (ros::WallTime::now() - start).toSec() << " s wall\n";
+
+  sensor_msgs::PointCloud2ConstPtr cloud;
+  body_scan_msgs::ScanReportConstPtr report;
+  for (ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(60);
+       ros::WallTime::now() < deadline; ros::WallDuration(0.05).sleep()) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (last_report && last_report->scan_id == scan.response.scan_id && last_cloud) {
+      cloud = last_cloud;
+      report = last_report;
+      break;
+    }
+  }
+  ASSERT_TRUE(cloud && report) << "no merged cloud and report for scan " << scan.response.scan_id;
+  std::cout << "[ figure ] first merged cloud " << (ros::WallTime::now() - start).toSec()
+            << " s after the capture call\n";
+  EXPECT_EQ(cloud->header.frame_id, "world");
+  EXPECT_EQ(static_cast<int>(report->pairs_present.size()), expected_pairs);
+  EXPECT_TRUE(report->pairs_missing.empty());
+
+  const size_t points = static_cast<size_t>(cloud->width) * cloud->height;
+  size_t finite = 0, in_volume = 0;
+  for (sensor_msgs::PointCloud2ConstIterator<float> it(*cloud, "x"); it != it.end(); ++it) {
+    if (!std::isfinite(it[0]) || !std::isfinite(it[1]) || !std::isfinite(it[2])) continue;
+    ++finite;
+    in_volume += std::hypot(it[0], it[1]) < 0.7 && it[2] > 0 && it[2] < 2.2;
+  }
+  std::cout << "[ figure ] merged cloud: " << points << " points (" << in_volume
+            << " in the scan volume); report: " << report->points_merged << "\n";
+  EXPECT_EQ(finite, points);
+  EXPECT_EQ(in_volume, points);
+  EXPECT_EQ(report->points_merged, points);
+  EXPECT_GE(static_cast<int>(points), min_points);
+  EXPECT_LE(static_cast<int>(points), max_points);
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_full_scanner");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
