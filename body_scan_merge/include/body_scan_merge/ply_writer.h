@@ -1,5 +1,5 @@
 // Writes point clouds as binary little-endian PLY (x, y, z float; red, green, blue uchar),
-// readable by MeshLab, CloudCompare and PCL.
+// readable by MeshLab, CloudCompare and PCL, or as binary PCD (x y z rgb, PCL's own format).
 #pragma once
 
 #include <cstddef>
@@ -14,6 +14,10 @@ namespace body_scan {
 // number of points written; throws FileWriteError (a std::runtime_error) naming the path on
 // failure.
 size_t writePly(const std::string& path, const float* points, size_t count, size_t stride,
+                int rgb_offset);
+
+// The same points as a binary PCD v0.7 file (FIELDS x y z rgb, unorganized), same rules.
+size_t writePcd(const std::string& path, const float* points, size_t count, size_t stride,
                 int rgb_offset);
 
 }  // namespace body_scan
