@@ -17,6 +17,16 @@ std::mutex mutex;
 sensor_msgs::PointCloud2ConstPtr last_cloud;
 body_scan_msgs::ScanReportConstPtr last_report;
 
+void onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {
+  std::lock_guard<std::mutex> lock(mutex);
+  last_cloud = cloud;
+}
+
+void onReport(const body_scan_msgs::ScanReportConstPtr& report) {
+  std::lock_guard<std::mutex> lock(mutex);
+  last_report = report;
+}
+
 }  // namespace
 
 TEST(FullScanner, OneScanGivesOneWholeBodyCloudFromEveryPair) {
@@ -24,16 +34,8 @@ TEST(FullScanner, OneScanGivesOneWholeBodyCloudFromEveryPair) {
   const int min_points = pnh.param("min_points", 500000);
   const int max_points = pnh.param("max_points", 1000000);
   const int expected_pairs = pnh.param("expected_pairs", 12);
-  ros::Subscriber cloud_sub = nh.subscribe<sensor_msgs::PointCloud2>(
-      "/body_scan/cloud", 1, [](const sensor_msgs::PointCloud2ConstPtr& cloud) {
-        std::lock_guard<std::mutex> lock(mutex);
-        last_cloud = cloud;
-      });
-  ros::Subscriber report_sub = nh.subscribe<body_scan_msgs::ScanReport>(
-      "/body_scan/scan_report", 1, [](const body_scan_msgs::ScanReportConstPtr& report) {
-        std::lock_guard<std::mutex> lock(mutex);
-        last_report = report;
-      });
+  ros::Subscriber cloud_sub = nh.subscribe("/body_scan/cloud", 1, &onCloud);
+  ros::Subscriber report_sub = nh.subscribe("/body_scan/scan_report", 1, &onReport);
   ASSERT_TRUE(ros::service::waitForService("/body_scan/capture", ros::Duration(60)))
       << "/body_scan/capture not advertised: is the ScanCoordinator running?";
 
