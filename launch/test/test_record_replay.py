@@ -21,34 +21,29 @@ from sensor_msgs.msg import PointCloud2
 
 
 class Latest:
-    """Latest cloud and report per scan id on one namespace."""
+    """Merged clouds and scan reports on one namespace, matched by their common stamp."""
 
     def __init__(self, prefix):
         self.lock = threading.Lock()
-        self.clouds, self.reports = {}, {}
-        self.pending = []
+        self.clouds, self.reports = {}, {}  # by stamp
         rospy.Subscriber(prefix + "/body_scan/scan_report", ScanReport, self.on_report)
         rospy.Subscriber(prefix + "/body_scan/cloud", PointCloud2, self.on_cloud)
 
     def on_cloud(self, cloud):
         with self.lock:
-            self.pending.append(cloud)
+            self.clouds[cloud.header.stamp] = cloud
 
     def on_report(self, report):
         with self.lock:
-            self.reports[report.scan_id] = report
-            # Merge publishes the cloud before the report of the same scan.
-            for cloud in self.pending:
-                if cloud.header.stamp == report.header.stamp:
-                    self.clouds[report.scan_id] = cloud
-            self.pending = []
+            self.reports[report.header.stamp] = report
 
     def wait(self, scan_id, timeout):
         deadline = time.time() + timeout
         while time.time() < deadline and not rospy.is_shutdown():
             with self.lock:
-                if scan_id in self.clouds:
-                    return self.clouds[scan_id], self.reports[scan_id]
+                for stamp, report in self.reports.items():
+                    if report.scan_id == scan_id and stamp in self.clouds:
+                        return self.clouds[stamp], report
             time.sleep(0.1)
         return None, None
 
