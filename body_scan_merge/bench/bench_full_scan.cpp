@@ -6,6 +6,7 @@
 //                                 (integer stripes: stripe centres instead of subpixel)
 //   FullScan/decode_triangulate   our 12 decodes + triangulations alone
 //   FullScan/merge                the merge alone
+//   FullScan/merge_pcl_voxel      the merge with PCL's VoxelGrid instead of ours
 // scripts/bench_report.py prints every case's median over FullScan/ours.
 #include <benchmark/benchmark.h>
 #include <body_scan_driver/sim/rig.h>
@@ -59,11 +60,11 @@ void forEachPairOnTwoThreads(size_t pairs, Work work) {
   second.join();
 }
 
-MergedCloud merge(const RigScan& s) {
+MergedCloud merge(const RigScan& s, const MergeOptions& options = {}) {
   std::vector<CloudView> views;
   for (size_t i = 0; i < s.clouds.size(); ++i)
     views.push_back(CloudView{s.clouds[i].data(), 640 * 480, 4, 3, s.poses[i]});
-  return mergeClouds(views, MergeOptions{});
+  return mergeClouds(views, options);
 }
 
 void decodeTriangulateOurs(RigScan& s) {
@@ -96,6 +97,16 @@ void mergeOnly(benchmark::State& state) {
   decodeTriangulateOurs(s);
   size_t points = 0;
   for (auto _ : state) points = merge(s).size();
+  state.counters["points"] = static_cast<double>(points);
+}
+
+void mergePclVoxel(benchmark::State& state) {
+  RigScan& s = rigScan();
+  decodeTriangulateOurs(s);
+  MergeOptions options;
+  options.voxel_grid = MergeOptions::VoxelGrid::kPcl;
+  size_t points = 0;
+  for (auto _ : state) points = merge(s, options).size();
   state.counters["points"] = static_cast<double>(points);
 }
 
@@ -139,6 +150,7 @@ void registerAll() {
   add("opencv_getProjPixel", opencvGetProjPixel)->Iterations(2)->Repetitions(3);
   add("decode_triangulate", decodeTriangulate);
   add("merge", mergeOnly);
+  add("merge_pcl_voxel", mergePclVoxel);
 }
 
 }  // namespace

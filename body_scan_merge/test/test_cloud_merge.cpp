@@ -91,6 +91,38 @@ TEST(CloudMerge, TheVoxelGridKeepsOnePointPerOccupiedVoxel) {
     ASSERT_NEAR(std::hypot(merged.xyzrgb[i], merged.xyzrgb[i + 1]), 0.15, 0.003);
 }
 
+TEST(CloudMerge, OurVoxelGridGivesPclsPointsAndColours) {
+  // Two overlapping noisy clouds of different colours, as neighbouring pairs give.
+  std::vector<float> cloud = cylinderPoints(0.15, 60000, 6, 0.001);
+  std::vector<float> other = cylinderPoints(0.15, 60000, 7, 0.001);
+  for (size_t i = 3; i < other.size(); i += 4) other[i] = packed(0x20C0FF);
+  cloud.insert(cloud.end(), other.begin(), other.end());
+  MergeOptions ours, pcl;
+  ours.voxel_leaf = pcl.voxel_leaf = 0.0015;
+  pcl.voxel_grid = MergeOptions::VoxelGrid::kPcl;
+  const CloudView view{cloud.data(), cloud.size() / 4, 4, 3, Eigen::Isometry3d::Identity()};
+  const MergedCloud a = mergeClouds({view}, ours), b = mergeClouds({view}, pcl);
+  ASSERT_EQ(a.size(), b.size());
+  double worst = 0;
+  int colour_off = 0;
+  for (size_t i = 0; i < a.xyzrgb.size(); i += 4) {
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, static_cast<double>(std::abs(a.xyzrgb[i + k] - b.xyzrgb[i + k])));
+    uint32_t ca, cb;
+    std::memcpy(&ca, &a.xyzrgb[i + 3], 4);
+    std::memcpy(&cb, &b.xyzrgb[i + 3], 4);
+    for (int shift : {0, 8, 16})  // float sums in another order: at most one level apart
+      colour_off += std::abs(static_cast<int>((ca >> shift) & 0xFF) -
+                             static_cast<int>((cb >> shift) & 0xFF)) > 1;
+  }
+  std::cout << "[ figure ] voxel grid of " << cloud.size() / 4 << " points: " << a.size()
+            << " voxels, ours vs PCL largest coordinate difference " << worst << " m; "
+            << a.stage_seconds.back().second * 1000 << " ms vs "
+            << b.stage_seconds.back().second * 1000 << " ms\n";
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_EQ(colour_off, 0);
+}
+
 TEST(CloudMerge, OutlierRemovalDropsIsolatedPointsAndKeepsTheSurface) {
   std::vector<float> points = cylinderPoints(0.15, 20000, 3, 0.0005);
   std::mt19937 generator(9);
