@@ -4,6 +4,7 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -42,8 +43,10 @@ void fromPcl(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, std::vector<float>&
 
 // Stable LSD radix sort of (key << 32 | index) values by their key (the upper 32 bits).
 void sortByKey(std::vector<uint64_t>& values) {
+  uint64_t largest = 0;
+  for (uint64_t v : values) largest = std::max(largest, v >> 32);
   std::vector<uint64_t> scratch(values.size());
-  for (int shift = 32; shift < 64; shift += 8) {
+  for (int shift = 32; shift < 64 && (largest >> (shift - 32)) > 0; shift += 8) {
     size_t count[257] = {};
     for (uint64_t v : values) ++count[((v >> shift) & 0xFF) + 1];
     for (int i = 0; i < 256; ++i) count[i + 1] += count[i];
@@ -83,7 +86,11 @@ void voxelGrid(std::vector<float>& xyzrgb, double leaf) {
   }
   const uint64_t stride_y = static_cast<uint64_t>(divisions.x());
   const uint64_t stride_z = stride_y * static_cast<uint64_t>(divisions.y());
-  std::vector<uint64_t> keyed(n);
+  // Keys are z-major: the lower and upper halves of the z range are independent, one per
+  // thread, and their outputs concatenate in key order.
+  const uint64_t split = stride_z * static_cast<uint64_t>(divisions.z() / 2);
+  std::vector<uint64_t> halves[2];
+  halves[0].reserve(n / 2 + n / 8), halves[1].reserve(n / 2 + n / 8);
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Array3i b =
         (Eigen::Array3f(xyzrgb[4 * i], xyzrgb[4 * i + 1], xyzrgb[4 * i + 2]) * inverse)
@@ -91,31 +98,40 @@ void voxelGrid(std::vector<float>& xyzrgb, double leaf) {
             .cast<int>() -
         min_b;
     const uint64_t key = b.x() + b.y() * stride_y + b.z() * stride_z;
-    keyed[i] = (key << 32) | i;
+    halves[key >= split].push_back((key << 32) | i);
   }
-  sortByKey(keyed);
-  std::vector<float> out;
-  out.reserve(xyzrgb.size());
-  for (size_t first = 0; first < n;) {
-    size_t last = first;
-    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-    float r = 0, g = 0, b = 0;
-    for (; last < n && (keyed[last] >> 32) == (keyed[first] >> 32); ++last) {
-      const size_t i = keyed[last] & 0xFFFFFFFFu;
-      sum += Eigen::Vector3f(xyzrgb[4 * i], xyzrgb[4 * i + 1], xyzrgb[4 * i + 2]);
-      uint32_t rgb;
-      std::memcpy(&rgb, &xyzrgb[4 * i + 3], sizeof rgb);
-      r += (rgb >> 16) & 0xFF, g += (rgb >> 8) & 0xFF, b += rgb & 0xFF;
+  std::vector<float> out[2];
+  auto reduce = [&](int half) {
+    std::vector<uint64_t>& keyed = halves[half];
+    sortByKey(keyed);
+    out[half].reserve(4 * keyed.size());
+    for (size_t first = 0; first < keyed.size();) {
+      size_t last = first;
+      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+      float r = 0, g = 0, b = 0;
+      for (; last < keyed.size() && (keyed[last] >> 32) == (keyed[first] >> 32); ++last) {
+        const size_t i = keyed[last] & 0xFFFFFFFFu;
+        sum += Eigen::Vector3f(xyzrgb[4 * i], xyzrgb[4 * i + 1], xyzrgb[4 * i + 2]);
+        uint32_t rgb;
+        std::memcpy(&rgb, &xyzrgb[4 * i + 3], sizeof rgb);
+        r += (rgb >> 16) & 0xFF, g += (rgb >> 8) & 0xFF, b += rgb & 0xFF;
+      }
+      const float count = static_cast<float>(last - first);
+      const uint32_t rgb = (static_cast<uint32_t>(r / count) << 16) |
+                           (static_cast<uint32_t>(g / count) << 8) |
+                           static_cast<uint32_t>(b / count);
+      float packed;
+      std::memcpy(&packed, &rgb, sizeof packed);
+      out[half].insert(out[half].end(),
+                       {sum.x() / count, sum.y() / count, sum.z() / count, packed});
+      first = last;
     }
-    const float count = static_cast<float>(last - first);
-    const uint32_t rgb = (static_cast<uint32_t>(r / count) << 16) |
-                         (static_cast<uint32_t>(g / count) << 8) | static_cast<uint32_t>(b / count);
-    float packed;
-    std::memcpy(&packed, &rgb, sizeof packed);
-    out.insert(out.end(), {sum.x() / count, sum.y() / count, sum.z() / count, packed});
-    first = last;
-  }
-  xyzrgb.swap(out);
+  };
+  std::thread upper(reduce, 1);
+  reduce(0);
+  upper.join();
+  out[0].insert(out[0].end(), out[1].begin(), out[1].end());
+  xyzrgb.swap(out[0]);
 }
 
 MergedCloud mergeClouds(const std::vector<CloudView>& parts, const MergeOptions& options) {
