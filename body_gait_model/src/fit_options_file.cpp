@@ -1,0 +1,108 @@
+#include <body_gait_model/fit_options_file.h>
+#include <yaml-cpp/yaml.h>
+
+#include <functional>
+#include <map>
+#include <stdexcept>
+
+namespace body_gait {
+namespace {
+
+// Reads the keys of one map into their fields; an unknown key is an error.
+class Section {
+ public:
+  Section(const std::string& path, std::string name) : path_(path), name_(std::move(name)) {}
+
+  template <typename T>
+  Section& field(const std::string& key, T& value) {
+    readers_[key] = [this, key, &value](const YAML::Node& node) {
+      try {
+        value = node.as<T>();
+      } catch (const YAML::Exception&) {
+        throw std::runtime_error(path_ + ": '" + name_ + key + "' has value '" + YAML::Dump(node) +
+                                 "' of the wrong type; fix it in the file");
+      }
+    };
+    return *this;
+  }
+  Section& section(const std::string& key, const std::function<void(const YAML::Node&)>& read) {
+    readers_[key] = read;
+    return *this;
+  }
+
+  void read(const YAML::Node& node) const {
+    if (!node || node.IsNull()) return;
+    if (!node.IsMap())
+      throw std::runtime_error(path_ + ": '" + (name_.empty() ? "the document" : name_) +
+                               "' must be a map of FitOptions keys");
+    for (const auto& entry : node) {
+      const std::string key = entry.first.as<std::string>();
+      const auto reader = readers_.find(key);
+      if (reader == readers_.end()) {
+        std::string known;
+        for (const auto& [name, unused] : readers_) known += (known.empty() ? "" : ", ") + name;
+        throw std::runtime_error(path_ + ": unknown key '" + name_ + key +
+                                 "'; known keys here: " + known);
+      }
+      reader->second(entry.second);
+    }
+  }
+
+ private:
+  std::string path_, name_;
+  std::map<std::string, std::function<void(const YAML::Node&)>> readers_;
+};
+
+}  // namespace
+
+FitOptions loadFitOptions(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(
+        "cannot read fit options '" + path + "': " + e.what() +
+        "; pass an existing YAML file (body_gait_model/config/body_fitter.yaml)");
+  }
+  FitOptions options;
+  Section axes(path, "axes.");
+  axes.field("shoulder_band_low", options.axes.shoulder_band_low)
+      .field("shoulder_band_high", options.axes.shoulder_band_high)
+      .field("vertical_from_floor", options.axes.vertical_from_floor)
+      .field("foot_band", options.axes.foot_band)
+      .field("shank_band_low", options.axes.shank_band_low)
+      .field("shank_band_high", options.axes.shank_band_high);
+  Section torso(path, "torso.");
+  torso.field("sectors", options.torso.sectors)
+      .field("delta_ut", options.torso.delta_ut)
+      .field("delta_lt", options.torso.delta_lt)
+      .field("slice_step", options.torso.slice_step)
+      .field("min_base_height", options.torso.min_base_height);
+  Section quality(path, "quality.");
+  quality.field("explained_distance", options.quality.explained_distance)
+      .field("min_explained_fraction", options.quality.min_explained_fraction)
+      .field("max_rms", options.quality.max_rms)
+      .field("min_points_per_limb_segment", options.quality.min_points_per_limb_segment)
+      .field("max_points", options.quality.max_points);
+  Section refinement(path, "refinement.");
+  refinement.field("sample_points", options.refinement.sample_points)
+      .field("rounds", options.refinement.rounds)
+      .field("max_iterations", options.refinement.max_iterations)
+      .field("huber_scale", options.refinement.huber_scale)
+      .field("min_length", options.refinement.min_length);
+  Section top(path, "");
+  top.section("axes", [&](const YAML::Node& n) { axes.read(n); })
+      .section("torso", [&](const YAML::Node& n) { torso.read(n); })
+      .section("quality", [&](const YAML::Node& n) { quality.read(n); })
+      .section("refinement", [&](const YAML::Node& n) { refinement.read(n); })
+      .field("refine", options.refine)
+      .field("foot_height", options.foot_height)
+      .field("arm_split_window", options.arm_split_window)
+      .field("leg_split_window", options.leg_split_window)
+      .field("limb_track_radius", options.limb_track_radius)
+      .field("hip_height", options.hip_height);
+  top.read(root);
+  return options;
+}
+
+}  // namespace body_gait

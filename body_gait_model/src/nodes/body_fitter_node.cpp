@@ -1,0 +1,14 @@
+// Runs the BodyFitter nodelet as a standalone node.
+#include <nodelet/loader.h>
+#include <ros/ros.h>
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "body_fitter");
+  nodelet::Loader loader;
+  nodelet::M_string remappings(ros::names::getRemappings());
+  nodelet::V_string arguments(argv + 1, argv + argc);
+  if (!loader.load(ros::this_node::getName(), "body_gait_model/BodyFitter", remappings, arguments))
+    return 1;
+  ros::spin();
+  return 0;
+}

@@ -1,0 +1,59 @@
+// loadFitOptions: the shipped config reads back its documented values; overrides land in
+// their fields; unknown keys, wrong types and missing files are errors naming the problem.
+#include <body_gait_model/fit_options_file.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+
+namespace body_gait {
+namespace {
+
+std::string writeTemp(const std::string& text) {
+  const std::string path = "/tmp/test_fit_options_" + std::to_string(::getpid()) + ".yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(FitOptionsFile, ShippedConfigHoldsTheDefaults) {
+  const FitOptions read = loadFitOptions(BODY_FITTER_YAML), defaults;
+  EXPECT_EQ(read.refine, defaults.refine);
+  EXPECT_EQ(read.torso.sectors, defaults.torso.sectors);
+  EXPECT_DOUBLE_EQ(read.quality.max_rms, defaults.quality.max_rms);
+  EXPECT_DOUBLE_EQ(read.axes.shoulder_band_high, defaults.axes.shoulder_band_high);
+  EXPECT_EQ(read.refinement.sample_points, defaults.refinement.sample_points);
+  EXPECT_DOUBLE_EQ(read.hip_height, defaults.hip_height);
+}
+
+TEST(FitOptionsFile, OverridesLandInTheirFields) {
+  const std::string path =
+      writeTemp("refine: false\ntorso: {sectors: 24}\nrefinement:\n  huber_scale: 0.05\n");
+  const FitOptions options = loadFitOptions(path);
+  std::remove(path.c_str());
+  EXPECT_FALSE(options.refine);
+  EXPECT_EQ(options.torso.sectors, 24);
+  EXPECT_DOUBLE_EQ(options.refinement.huber_scale, 0.05);
+  EXPECT_DOUBLE_EQ(options.torso.delta_ut, TorsoOptions{}.delta_ut);  // untouched
+}
+
+void expectError(const std::string& text, const std::string& part) {
+  const std::string path = writeTemp(text);
+  try {
+    loadFitOptions(path);
+    ADD_FAILURE() << "no error for: " << text;
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
+}
+
+TEST(FitOptionsFile, BadFilesAreClearErrors) {
+  expectError("torso: {sector: 24}\n", "unknown key 'torso.sector'");
+  expectError("refine: maybe\n", "'refine' has value 'maybe' of the wrong type");
+  expectError("[1, 2]\n", "must be a map");
+  EXPECT_THROW(loadFitOptions("/nonexistent/body_fitter.yaml"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace body_gait
