@@ -41,6 +41,7 @@ CMAKE_BUILD_TYPE ?= Release
 #       libdiagnostic-updater-dev, libdynamic-reconfigure-config-init-mutex-dev,
 #       python3-dynamic-reconfigure, python3-diagnostic-msgs: device health on /diagnostics
 #       (and `rostopic echo /diagnostics`), run-time camera settings
+#   libpcl-dev: the merge filters (pcl::VoxelGrid, pcl::StatisticalOutlierRemoval)
 #   libgtest-dev, libbenchmark-dev: unit tests (catkin_add_gtest) and Google Benchmark
 #   xvfb, xauth: headless X for anything that needs a display; imagemagick: demo images
 DEB_PACKAGES := \
@@ -52,7 +53,7 @@ DEB_PACKAGES := \
 	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libceres-dev \
 	libusb-1.0-0-dev libuvc-dev libx11-dev libdiagnostic-updater-dev \
 	libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure python3-diagnostic-msgs \
-	libgtest-dev libbenchmark-dev \
+	libpcl-dev libgtest-dev libbenchmark-dev \
 	xvfb xauth imagemagick opencv-doc
 
 # Only `make format` needs these.
