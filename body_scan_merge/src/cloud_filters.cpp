@@ -4,6 +4,7 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -70,6 +71,30 @@ void removeOutliers(std::vector<ColouredPoint>& points, int neighbours, double s
   pcl::PointCloud<pcl::PointXYZRGB> filtered;
   sor.filter(filtered);
   fromPcl(filtered, points);
+}
+
+MergeResult mergeClouds(const std::vector<PairPoints>& pairs, const MergeParams& params) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+  };
+  MergeResult result;
+  const auto t0 = Clock::now();
+  size_t total = 0;
+  for (const PairPoints& pair : pairs) total += pair.count;
+  result.points.reserve(total / 2);
+  for (const PairPoints& pair : pairs)
+    result.valid_per_pair.push_back(transformAndCrop(
+        pair.points, pair.count, pair.stride, pair.world_from_cloud, params.volume, result.points));
+  const auto t1 = Clock::now();
+  voxelGrid(result.points, params.voxel_leaf);
+  const auto t2 = Clock::now();
+  removeOutliers(result.points, params.outlier_neighbours, params.outlier_stddev);
+  const auto t3 = Clock::now();
+  result.transform_seconds = seconds(t0, t1);
+  result.voxel_seconds = seconds(t1, t2);
+  result.outlier_seconds = seconds(t2, t3);
+  return result;
 }
 
 }  // namespace body_scan

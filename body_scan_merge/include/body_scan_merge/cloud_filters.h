@@ -45,4 +45,22 @@ void voxelGrid(std::vector<ColouredPoint>& points, double leaf);
 // pcl::StatisticalOutlierRemoval with k neighbours and the stddev multiplier.
 void removeOutliers(std::vector<ColouredPoint>& points, int neighbours, double stddev);
 
+// One pair's cloud as Triangulate publishes it, with its pose in the world.
+struct PairPoints {
+  const float* points = nullptr;  // xyz + rgb at the first four floats of each point
+  size_t count = 0;
+  size_t stride = 4;  // floats between points
+  Eigen::Isometry3f world_from_cloud = Eigen::Isometry3f::Identity();
+};
+
+struct MergeResult {
+  std::vector<ColouredPoint> points;   // world frame, cropped and filtered
+  std::vector<size_t> valid_per_pair;  // finite points of each input pair
+  double transform_seconds = 0, voxel_seconds = 0, outlier_seconds = 0;
+};
+
+// The whole merge: transformAndCrop of every pair, then voxelGrid and removeOutliers as
+// configured, with the wall time of each stage.
+MergeResult mergeClouds(const std::vector<PairPoints>& pairs, const MergeParams& params);
+
 }  // namespace body_scan
