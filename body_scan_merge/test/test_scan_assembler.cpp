@@ -4,70 +4,61 @@
 using body_scan::ScanAssembler;
 using Assembler = ScanAssembler<int>;
 
-namespace {
-const std::vector<std::string> kPairs = {"pole_a/pair_1", "pole_a/pair_2", "pole_b/pair_1"};
-}
-
-TEST(ScanAssembler, CompleteWhenEveryPairArrived) {
-  Assembler assembler(kPairs, 2.0);
-  EXPECT_EQ(assembler.add(kPairs[0], 7, 10, 0.0), Assembler::AddResult::kAccepted);
-  EXPECT_EQ(assembler.add(kPairs[1], 7, 11, 0.1), Assembler::AddResult::kAccepted);
-  EXPECT_TRUE(assembler.poll(0.2).empty());
-  EXPECT_EQ(assembler.add(kPairs[2], 7, 12, 0.3), Assembler::AddResult::kAccepted);
-  const auto ready = assembler.poll(0.3);  // well before the timeout
-  ASSERT_EQ(ready.size(), 1u);
-  EXPECT_EQ(ready[0].scan_id, 7u);
-  EXPECT_EQ(ready[0].clouds.size(), 3u);
-  EXPECT_EQ(ready[0].clouds.at(kPairs[1]), 11);
-  EXPECT_TRUE(ready[0].missing.empty());
+TEST(ScanAssembler, AScanIsCompleteWhenEveryPairHasDeliveredInTheExpectedOrder) {
+  Assembler assembler({"a", "b", "c"}, 5.0);
+  std::vector<Assembler::Scan> done;
+  EXPECT_EQ(assembler.add("c", 7, 3, 0.0, done), Assembler::Arrival::kAccepted);
+  EXPECT_EQ(assembler.add("a", 7, 1, 0.1, done), Assembler::Arrival::kAccepted);
+  EXPECT_TRUE(done.empty());
+  assembler.add("b", 7, 2, 0.2, done);
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_EQ(done[0].scan_id, 7u);
+  ASSERT_EQ(done[0].parts.size(), 3u);
+  EXPECT_EQ(done[0].parts[0], (std::pair<std::string, int>{"a", 1}));
+  EXPECT_EQ(done[0].parts[2], (std::pair<std::string, int>{"c", 3}));
+  EXPECT_TRUE(done[0].missing.empty());
   EXPECT_EQ(assembler.pendingScans(), 0u);
 }
 
-TEST(ScanAssembler, TimeoutReportsMissingPairs) {
-  Assembler assembler(kPairs, 2.0);
-  assembler.add(kPairs[0], 3, 1, 10.0);
-  assembler.add(kPairs[2], 3, 3, 11.0);
-  EXPECT_TRUE(assembler.poll(11.99).empty());  // timeout counts from the first cloud
-  const auto ready = assembler.poll(12.0);
-  ASSERT_EQ(ready.size(), 1u);
-  EXPECT_EQ(ready[0].clouds.size(), 2u);
-  ASSERT_EQ(ready[0].missing.size(), 1u);
-  EXPECT_EQ(ready[0].missing[0], kPairs[1]);
-}
-
-TEST(ScanAssembler, LateCloudOfPublishedScanIsDropped) {
-  Assembler assembler(kPairs, 1.0);
-  assembler.add(kPairs[0], 5, 1, 0.0);
-  ASSERT_EQ(assembler.poll(1.5).size(), 1u);
-  EXPECT_EQ(assembler.add(kPairs[1], 5, 2, 1.6), Assembler::AddResult::kLate);
+TEST(ScanAssembler, APairThatNeverAnswersIsReportedMissingAfterTheTimeout) {
+  Assembler assembler({"a", "b", "c"}, 5.0);
+  std::vector<Assembler::Scan> done;
+  assembler.add("a", 1, 1, 10.0, done);
+  assembler.add("c", 1, 3, 11.0, done);
+  assembler.poll(14.9, done);
+  EXPECT_TRUE(done.empty());
+  assembler.poll(15.0, done);
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_EQ(done[0].parts.size(), 2u);
+  EXPECT_EQ(done[0].missing, std::vector<std::string>{"b"});
+  // Its cloud arriving later is recognised as late, not started as a new scan.
+  EXPECT_EQ(assembler.add("b", 1, 2, 16.0, done), Assembler::Arrival::kLate);
   EXPECT_EQ(assembler.pendingScans(), 0u);
-  EXPECT_TRUE(assembler.poll(10.0).empty());
 }
 
-TEST(ScanAssembler, NewerScanDoesNotLoseOlderIncompleteOne) {
-  Assembler assembler(kPairs, 2.0);
-  assembler.add(kPairs[0], 1, 100, 0.0);
-  assembler.add(kPairs[1], 1, 101, 0.1);
-  for (size_t i = 0; i < kPairs.size(); ++i)  // scan 2 completes first
-    assembler.add(kPairs[i], 2, 200 + static_cast<int>(i), 0.5);
-  auto ready = assembler.poll(0.6);
-  ASSERT_EQ(ready.size(), 1u);
-  EXPECT_EQ(ready[0].scan_id, 2u);
-  EXPECT_EQ(assembler.add(kPairs[2], 1, 102, 0.7), Assembler::AddResult::kAccepted);
-  ready = assembler.poll(0.7);
-  ASSERT_EQ(ready.size(), 1u);
-  EXPECT_EQ(ready[0].scan_id, 1u);
-  EXPECT_EQ(ready[0].clouds.size(), 3u);
-  EXPECT_EQ(ready[0].clouds.at(kPairs[2]), 102);
+TEST(ScanAssembler, InterleavedScansDoNotLoseEachOther) {
+  Assembler assembler({"a", "b"}, 5.0);
+  std::vector<Assembler::Scan> done;
+  assembler.add("a", 1, 10, 0.0, done);
+  assembler.add("a", 2, 20, 0.5, done);  // a newer scan starts before scan 1 is complete
+  assembler.add("b", 2, 21, 0.6, done);
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_EQ(done[0].scan_id, 2u);
+  assembler.add("b", 1, 11, 0.7, done);
+  ASSERT_EQ(done.size(), 2u);
+  EXPECT_EQ(done[1].scan_id, 1u);
+  EXPECT_EQ(done[1].parts[1].second, 11);
 }
 
-TEST(ScanAssembler, DuplicateAndUnknownPairsAreRejected) {
-  Assembler assembler(kPairs, 2.0);
-  EXPECT_EQ(assembler.add(kPairs[0], 1, 1, 0.0), Assembler::AddResult::kAccepted);
-  EXPECT_EQ(assembler.add(kPairs[0], 1, 9, 0.1), Assembler::AddResult::kDuplicate);
-  EXPECT_EQ(assembler.add("pole_z/pair_9", 1, 1, 0.1), Assembler::AddResult::kUnexpectedPair);
-  const auto ready = assembler.poll(3.0);
-  ASSERT_EQ(ready.size(), 1u);
-  EXPECT_EQ(ready[0].clouds.at(kPairs[0]), 1);  // the first cloud is kept
-  EXPECT_EQ(ready[0].missing.size(), 2u);
+TEST(ScanAssembler, UnknownPairsAndRepeatsAreRejected) {
+  Assembler assembler({"a", "b"}, 5.0);
+  std::vector<Assembler::Scan> done;
+  EXPECT_EQ(assembler.add("z", 1, 0, 0.0, done), Assembler::Arrival::kUnknownPair);
+  EXPECT_EQ(assembler.pendingScans(), 0u);
+  EXPECT_EQ(assembler.add("a", 1, 1, 0.0, done), Assembler::Arrival::kAccepted);
+  EXPECT_EQ(assembler.add("a", 1, 9, 0.1, done), Assembler::Arrival::kRepeated);
+  assembler.add("b", 1, 2, 0.2, done);
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_EQ(done[0].parts[0].second, 1);  // the first cloud, not the repeat
+  EXPECT_THROW(Assembler({}, 1.0), std::invalid_argument);
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "virtual_pair_keys.h"
 #include "yaml_file.h"
 
 namespace body_scan::sim {
@@ -33,9 +34,11 @@ void optionalVector(const YAML::Node& node, const char* key, Eigen::Vector3d& va
 
 }  // namespace
 
-VirtualPairConfig loadVirtualPairConfig(const std::string& path) {
-  const YAML::Node root = loadYamlFile(path, "pair");
-  requireKnownKeys(root, {"pair_id", "camera", "pose", "pattern", "sensor", "projector"}, path);
+void applyPairKeys(const YAML::Node& root, const std::string& path, VirtualPairConfig& config,
+                   bool allow_pose) {
+  std::vector<std::string> keys = {"camera", "pattern", "sensor", "projector"};
+  if (allow_pose) keys.insert(keys.end(), {"pair_id", "pose"});
+  requireKnownKeys(root, keys, path);
   requireKnownKeys(root["camera"],
                    {"width", "height", "alpha", "beta", "gamma", "u0", "v0", "k1", "k2"},
                    path + ": camera");
@@ -49,7 +52,6 @@ VirtualPairConfig loadVirtualPairConfig(const std::string& path) {
       {"mirror_axis_point", "mirror_axis", "mirror_offset", "laser_origin", "laser_direction",
        "first_mirror_angle_deg", "last_mirror_angle_deg", "fan_half_angle_deg"},
       path + ": projector");
-  VirtualPairConfig config;
   optional(root, "pair_id", config.pair_id, path);
 
   const YAML::Node camera = root["camera"];
@@ -68,13 +70,14 @@ VirtualPairConfig loadVirtualPairConfig(const std::string& path) {
   if (c.width <= 0 || c.height <= 0 || c.alpha <= 0 || c.beta <= 0)
     throw std::runtime_error(camera_where + ": width, height, alpha and beta must be > 0");
 
-  const YAML::Node pose = root["pose"];
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  double yaw_deg = 0, pitch_deg = 0;
-  optionalVector(pose, "position", position, path + ": pose");
-  optional(pose, "yaw_deg", yaw_deg, path + ": pose");
-  optional(pose, "pitch_deg", pitch_deg, path + ": pose");
-  config.world_from_camera = cameraPose(position, yaw_deg * kDegree, pitch_deg * kDegree);
+  if (const YAML::Node pose = root["pose"]) {
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    double yaw_deg = 0, pitch_deg = 0;
+    optionalVector(pose, "position", position, path + ": pose");
+    optional(pose, "yaw_deg", yaw_deg, path + ": pose");
+    optional(pose, "pitch_deg", pitch_deg, path + ": pose");
+    config.world_from_camera = cameraPose(position, yaw_deg * kDegree, pitch_deg * kDegree);
+  }
 
   const YAML::Node pattern = root["pattern"];
   optional(pattern, "bits", config.bits, path + ": pattern");
@@ -106,6 +109,11 @@ VirtualPairConfig loadVirtualPairConfig(const std::string& path) {
   p.first_mirror_angle = first_deg * kDegree;
   p.last_mirror_angle = last_deg * kDegree;
   p.fan_half_angle = fan_deg * kDegree;
+}
+
+VirtualPairConfig loadVirtualPairConfig(const std::string& path) {
+  VirtualPairConfig config;
+  applyPairKeys(loadYamlFile(path, "pair"), path, config, /*allow_pose=*/true);
   return config;
 }
 

@@ -1,7 +1,7 @@
-// Merge: the pair clouds of one scan (`/<pair_id>/scan_points`, PairCloud) -> one whole-body
-// cloud in the world frame (/body_scan/cloud) + a ScanReport (/body_scan/scan_report).
-// Collection by scan id: ScanAssembler; transform, crop and filters: mergeClouds (core).
-#include <body_scan_merge/cloud_filters.h>
+// Merge: the pair clouds of one scan id (/<pair>/scan_points) -> /body_scan/cloud (world frame,
+// cropped to the scan volume, optional voxel grid and outlier removal) + /body_scan/scan_report.
+// A pair that never answers is reported after ~timeout and the scan is assembled without it.
+#include <body_scan_merge/cloud_merge.h>
 #include <body_scan_merge/scan_assembler.h>
 #include <body_scan_msgs/PairCloud.h>
 #include <body_scan_msgs/ScanReport.h>
@@ -13,192 +13,142 @@
 #include <tf2_ros/transform_listener.h>
 
 #include <algorithm>
-#include <chrono>
-#include <cstring>
 #include <memory>
 #include <mutex>
 #include <pluginlib/class_list_macros.hpp>
 
 namespace body_scan {
-namespace {
-
-std::vector<std::string> thesisPairs() {
-  std::vector<std::string> pairs;
-  for (const char* pole : {"pole_a", "pole_b", "pole_c"})
-    for (int i = 1; i <= 4; ++i) pairs.push_back(std::string(pole) + "/pair_" + std::to_string(i));
-  return pairs;
-}
-
-// Triangulate's layout: float32 x, y, z, rgb at offsets 0, 4, 8, 12, little endian.
-bool hasTriangulateLayout(const sensor_msgs::PointCloud2& cloud) {
-  const char* names[] = {"x", "y", "z", "rgb"};
-  if (cloud.fields.size() < 4 || cloud.point_step < 16 || cloud.point_step % 4 != 0 ||
-      cloud.is_bigendian ||
-      cloud.data.size() < static_cast<size_t>(cloud.row_step) * cloud.height ||
-      cloud.row_step != cloud.point_step * cloud.width)
-    return false;
-  for (uint32_t i = 0; i < 4; ++i)
-    if (cloud.fields[i].name != names[i] || cloud.fields[i].offset != 4 * i ||
-        cloud.fields[i].datatype != sensor_msgs::PointField::FLOAT32)
-      return false;
-  return true;
-}
-
-double steadySeconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-}  // namespace
 
 class MergeNodelet : public nodelet::Nodelet {
-  using Assembler = ScanAssembler<body_scan_msgs::PairCloud::ConstPtr>;
-
  private:
+  using Part = body_scan_msgs::PairCloudConstPtr;
+
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     std::vector<std::string> pairs;
-    if (!pnh.getParam("pairs", pairs) || pairs.empty()) pairs = thesisPairs();
+    if (!pnh.getParam("pairs", pairs) || pairs.empty()) {
+      for (const char* pole : {"pole_a", "pole_b", "pole_c"})
+        for (int i = 1; i <= 4; ++i)
+          pairs.push_back(std::string(pole) + "/pair_" + std::to_string(i));
+      NODELET_INFO("~pairs not set: expecting the 12 pairs of the thesis rig");
+    }
     world_frame_ = pnh.param<std::string>("world_frame", "world");
-    const double timeout = pnh.param("timeout", 2.0);
-    params_.volume.radius = pnh.param("crop_radius", params_.volume.radius);
-    params_.volume.z_min = pnh.param("crop_z_min", params_.volume.z_min);
-    params_.volume.z_max = pnh.param("crop_z_max", params_.volume.z_max);
-    params_.voxel_leaf = pnh.param("voxel_leaf", params_.voxel_leaf);
-    params_.outlier_neighbours = pnh.param("outlier_neighbours", params_.outlier_neighbours);
-    params_.outlier_stddev = pnh.param("outlier_stddev", params_.outlier_stddev);
-    tf_wait_ = pnh.param("tf_wait", 0.5);
-    assembler_ = std::make_unique<Assembler>(pairs, timeout);
+    const double timeout = pnh.param("timeout", 60.0);
+    options_.crop_radius = pnh.param("crop_radius", options_.crop_radius);
+    options_.crop_min_z = pnh.param("crop_min_z", options_.crop_min_z);
+    options_.crop_max_z = pnh.param("crop_max_z", options_.crop_max_z);
+    options_.voxel_leaf = pnh.param("voxel_leaf", options_.voxel_leaf);
+    options_.outlier_removal = pnh.param("outlier_removal", options_.outlier_removal);
+    options_.outlier_neighbours = pnh.param("outlier_neighbours", options_.outlier_neighbours);
+    options_.outlier_std_ratio = pnh.param("outlier_std_ratio", options_.outlier_std_ratio);
+    assembler_ = std::make_unique<ScanAssembler<Part>>(pairs, timeout);
 
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
-    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
-    cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>("/body_scan/cloud", 2);
-    report_pub_ = nh.advertise<body_scan_msgs::ScanReport>("/body_scan/scan_report", 10);
-    groups_sub_ = nh.subscribe<body_scan_msgs::TimingGroups>(
-        "/body_scan/timing_groups", 1, [this](const body_scan_msgs::TimingGroups::ConstPtr& g) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          timing_groups_ = g;
-        });
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
+    cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>("cloud", 2);
+    report_pub_ = nh.advertise<body_scan_msgs::ScanReport>("scan_report", 10);
+    // The pairs live next to this node's namespace (/body_scan -> /pole_a/pair_1/scan_points;
+    // under a replay prefix /replay/body_scan -> /replay/pole_a/pair_1/scan_points).
+    const std::string root = ros::names::parentNamespace(nh.getNamespace());
     for (const std::string& pair : pairs)
-      pair_subs_.push_back(
-          nh.subscribe("/" + pair + "/scan_points", 4, &MergeNodelet::onPairCloud, this));
-    poll_timer_ =
-        nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { poll(); });
+      subscribers_.push_back(
+          nh.subscribe<body_scan_msgs::PairCloud>(ros::names::append(root, pair + "/scan_points"),
+                                                  2, [this](const Part& part) { onPart(part); }));
+    groups_sub_ = nh.subscribe<body_scan_msgs::TimingGroups>(
+        "timing_groups", 1, [this](const body_scan_msgs::TimingGroupsConstPtr& groups) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          groups_ = groups;
+        });
+    timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
+      std::vector<ScanAssembler<Part>::Scan> done;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        assembler_->poll(ros::WallTime::now().toSec(), done);
+      }
+      for (auto& scan : done) publish(scan);
+    });
     NODELET_INFO(
-        "merging %zu pairs into /body_scan/cloud (%s frame, timeout %.1f s, voxel %.1f mm, "
-        "crop r %.2f m z %.3f..%.2f m)",
-        pairs.size(), world_frame_.c_str(), timeout, params_.voxel_leaf * 1e3,
-        params_.volume.radius, params_.volume.z_min, params_.volume.z_max);
+        "merging scans of %zu pairs into %s (frame %s), pair timeout %.1f s, voxel %.4f m%s",
+        pairs.size(), cloud_pub_.getTopic().c_str(), world_frame_.c_str(), timeout,
+        options_.voxel_leaf, options_.outlier_removal ? ", outlier removal" : "");
   }
 
-  void onPairCloud(const body_scan_msgs::PairCloud::ConstPtr& cloud) {
-    Assembler::AddResult result;
+  void onPart(const Part& part) {
+    std::vector<ScanAssembler<Part>::Scan> done;
+    ScanAssembler<Part>::Arrival arrival;
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      result = assembler_->add(cloud->pair_id, cloud->scan_id, cloud, steadySeconds());
+      arrival =
+          assembler_->add(part->pair_id, part->scan_id, part, ros::WallTime::now().toSec(), done);
     }
-    switch (result) {
-      case Assembler::AddResult::kLate:
-        NODELET_WARN(
-            "[%s] cloud of scan %u arrived after the scan was published (timeout %.1f "
-            "s); dropped. Raise ~timeout if this pair is regularly this slow",
-            cloud->pair_id.c_str(), cloud->scan_id, assembler_->timeout());
-        break;
-      case Assembler::AddResult::kDuplicate:
-        NODELET_WARN("[%s] second cloud for scan %u; dropped", cloud->pair_id.c_str(),
-                     cloud->scan_id);
-        break;
-      case Assembler::AddResult::kUnexpectedPair:
-        NODELET_WARN_THROTTLE(5.0,
-                              "cloud with pair_id '%s' is not in ~pairs; dropped (check the "
-                              "pair's driver pair_id or add it to ~pairs)",
-                              cloud->pair_id.c_str());
-        break;
-      case Assembler::AddResult::kAccepted:
-        poll();
-        break;
-    }
+    if (arrival == ScanAssembler<Part>::Arrival::kLate)
+      NODELET_WARN("[%s] cloud of scan %u arrived after the scan was published (raise ~timeout)",
+                   part->pair_id.c_str(), part->scan_id);
+    else if (arrival == ScanAssembler<Part>::Arrival::kUnknownPair)
+      NODELET_WARN_THROTTLE(10.0, "cloud from '%s', which is not in ~pairs: ignored",
+                            part->pair_id.c_str());
+    else if (arrival == ScanAssembler<Part>::Arrival::kRepeated)
+      NODELET_WARN("[%s] second cloud for scan %u: ignored", part->pair_id.c_str(), part->scan_id);
+    for (auto& scan : done) publish(scan);
   }
 
-  void poll() {
-    std::vector<Assembler::Scan> ready;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      ready = assembler_->poll(steadySeconds());
-    }
-    for (Assembler::Scan& scan : ready) {
-      try {
-        process(scan);
-      } catch (const std::exception& e) {  // never take the manager down
-        NODELET_ERROR("scan %u not merged: %s", scan.scan_id, e.what());
-      }
-    }
-  }
-
-  std::optional<Eigen::Isometry3f> worldFrom(const std::string& frame, const std::string& pair) {
-    try {
-      const auto t =
-          tf_buffer_->lookupTransform(world_frame_, frame, ros::Time(0), ros::Duration(tf_wait_));
-      const auto& q = t.transform.rotation;
-      const auto& p = t.transform.translation;
-      Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
-      pose.linear() = Eigen::Quaternionf(q.w, q.x, q.y, q.z).normalized().toRotationMatrix();
-      pose.translation() << p.x, p.y, p.z;
-      return pose;
-    } catch (const std::exception& e) {
-      NODELET_ERROR_THROTTLE(5.0,
-                             "[%s] no transform %s <- %s (%s); the pair is left out of the scan. "
-                             "Start the drivers with publish_factory_tf (simulator) or run the "
-                             "world_alignment_publisher (calibrated rig)",
-                             pair.c_str(), world_frame_.c_str(), frame.c_str(), e.what());
-      return std::nullopt;
-    }
-  }
-
-  void process(Assembler::Scan& scan) {
-    const auto start = std::chrono::steady_clock::now();
-    body_scan_msgs::ScanReport report;
-    report.scan_id = scan.scan_id;
-    report.pairs_expected = assembler_->expectedPairs();
-    report.pairs_missing = scan.missing;
-    std::vector<PairPoints> inputs;
-    std::vector<std::string> present;
-    double slowest = 0;
+  void publish(const ScanAssembler<Part>::Scan& scan) {
+    const ros::WallTime start = ros::WallTime::now();
+    body_scan_msgs::ScanReportPtr report(new body_scan_msgs::ScanReport);
+    report->scan_id = scan.scan_id;
+    report->pairs_expected = assembler_->expectedPairs();
+    report->pairs_missing = scan.missing;
+    std::vector<CloudView> views;
+    double slowest_pair = 0;
     ros::Time stamp;
-    for (const auto& [pair, cloud] : scan.clouds) {
-      if (!hasTriangulateLayout(cloud->cloud)) {
+    for (const auto& [pair_id, part] : scan.parts) {
+      const sensor_msgs::PointCloud2& cloud = part->cloud;
+      CloudView view;
+      try {
+        const auto t = tf_buffer_
+                           ->lookupTransform(world_frame_, cloud.header.frame_id, ros::Time(0),
+                                             ros::Duration(0.5))
+                           .transform;
+        view.world_from_cloud =
+            Eigen::Translation3d(t.translation.x, t.translation.y, t.translation.z) *
+            Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z);
+      } catch (const tf2::TransformException& e) {
         NODELET_ERROR_THROTTLE(5.0,
-                               "[%s] scan_points cloud is not Triangulate's layout (float32 x y z "
-                               "rgb, complete data); the pair is left out",
-                               pair.c_str());
-        report.pairs_missing.push_back(pair);
+                               "[%s] no transform %s -> %s (%s): left out of scan %u. Start the "
+                               "drivers with their factory tf or the world_alignment_publisher",
+                               pair_id.c_str(), world_frame_.c_str(), cloud.header.frame_id.c_str(),
+                               e.what(), scan.scan_id);
+        report->pairs_missing.push_back(pair_id);
         continue;
       }
-      const auto pose = worldFrom(cloud->header.frame_id, pair);
-      if (!pose) {
-        report.pairs_missing.push_back(pair);
+      if (cloud.point_step % 4 != 0 || cloud.fields.size() < 3 || cloud.fields[0].offset != 0 ||
+          cloud.data.size() < static_cast<size_t>(cloud.point_step) * cloud.width * cloud.height) {
+        NODELET_ERROR_THROTTLE(5.0, "[%s] cloud layout is not float x y z [rgb]: left out",
+                               pair_id.c_str());
+        report->pairs_missing.push_back(pair_id);
         continue;
       }
-      PairPoints input;
-      input.points = reinterpret_cast<const float*>(cloud->cloud.data.data());
-      input.count = static_cast<size_t>(cloud->cloud.width) * cloud->cloud.height;
-      input.stride = cloud->cloud.point_step / 4;
-      input.world_from_cloud = *pose;
-      inputs.push_back(input);
-      present.push_back(pair);
-      slowest = std::max(slowest, cloud->processing_seconds);
-      stamp = std::max(stamp, cloud->header.stamp);
+      view.points = reinterpret_cast<const float*>(cloud.data.data());
+      view.count = static_cast<size_t>(cloud.width) * cloud.height;
+      view.stride = cloud.point_step / 4;
+      view.rgb_offset = -1;
+      for (const auto& field : cloud.fields)
+        if (field.name == "rgb") view.rgb_offset = static_cast<int>(field.offset / 4);
+      views.push_back(view);
+      report->pairs_present.push_back(pair_id);
+      slowest_pair = std::max(slowest_pair, part->processing_seconds);
+      stamp = std::max(stamp, part->header.stamp);
     }
-    const MergeResult merged = mergeClouds(inputs, params_);
-    report.pairs_present = present;
-    for (size_t n : merged.valid_per_pair) report.points_per_pair.push_back(n);
-    report.points_merged = static_cast<uint32_t>(merged.points.size());
+    const MergedCloud merged = mergeClouds(views, options_);
+    for (size_t count : merged.valid_per_part)
+      report->points_per_pair.push_back(static_cast<uint32_t>(count));
 
     sensor_msgs::PointCloud2Ptr cloud(new sensor_msgs::PointCloud2);
-    cloud->header.stamp = stamp;
+    cloud->header.stamp = stamp.isZero() ? ros::Time::now() : stamp;
     cloud->header.frame_id = world_frame_;
     cloud->height = 1;
-    cloud->width = static_cast<uint32_t>(merged.points.size());
+    cloud->width = static_cast<uint32_t>(merged.size());
     const char* names[] = {"x", "y", "z", "rgb"};
     for (uint32_t i = 0; i < 4; ++i) {
       sensor_msgs::PointField field;
@@ -208,56 +158,58 @@ class MergeNodelet : public nodelet::Nodelet {
       field.count = 1;
       cloud->fields.push_back(field);
     }
-    cloud->point_step = sizeof(ColouredPoint);
+    cloud->point_step = 16;
     cloud->row_step = cloud->point_step * cloud->width;
     cloud->is_dense = true;
-    cloud->data.resize(static_cast<size_t>(cloud->row_step));
-    if (!merged.points.empty())
-      std::memcpy(cloud->data.data(), merged.points.data(), cloud->data.size());
-    cloud_pub_.publish(cloud);
+    const auto* bytes = reinterpret_cast<const uint8_t*>(merged.xyzrgb.data());
+    cloud->data.assign(bytes, bytes + merged.xyzrgb.size() * sizeof(float));
 
-    const double total =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    report.header = cloud->header;
-    report.stage_names = {"decode+triangulate (slowest pair)", "transform+crop", "voxel",
-                          "outliers", "merge total"};
-    report.stage_seconds = {slowest, merged.transform_seconds, merged.voxel_seconds,
-                            merged.outlier_seconds, total};
+    report->header = cloud->header;
+    report->points_merged = cloud->width;
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (timing_groups_) {
-        report.timing_groups = static_cast<uint32_t>(timing_groups_->groups.size());
-        report.simulated_capture_seconds = report.timing_groups * timing_groups_->group_seconds;
+      if (groups_) {
+        report->timing_groups = static_cast<uint32_t>(groups_->groups.size());
+        report->simulated_capture_seconds = groups_->groups.size() * groups_->group_seconds;
       }
     }
-    char line[256];
-    std::snprintf(line, sizeof line,
-                  "scan %u: %zu/%zu pairs, %u points (decode+triangulate %.0f ms slowest pair, "
-                  "merge %.0f ms)",
-                  scan.scan_id, present.size(), report.pairs_expected.size(), report.points_merged,
-                  slowest * 1e3, total * 1e3);
-    std::string message = line;
-    if (!report.pairs_missing.empty()) {
-      message += "; missing:";
-      for (const auto& pair : report.pairs_missing) message += " " + pair;
+    report->stage_names.push_back("decode+triangulate (slowest pair)");
+    report->stage_seconds.push_back(slowest_pair);
+    for (const auto& [name, seconds] : merged.stage_seconds) {
+      report->stage_names.push_back(name);
+      report->stage_seconds.push_back(seconds);
     }
-    report.message = message;
+    report->stage_names.push_back("merge total");
+    report->stage_seconds.push_back((ros::WallTime::now() - start).toSec());
+    std::sort(report->pairs_missing.begin(), report->pairs_missing.end());
+    report->message = "scan " + std::to_string(scan.scan_id) + ": " +
+                      std::to_string(report->points_merged) + " points from " +
+                      std::to_string(report->pairs_present.size()) + "/" +
+                      std::to_string(report->pairs_expected.size()) + " pairs";
+    if (!report->pairs_missing.empty()) {
+      report->message += "; missing:";
+      for (const std::string& id : report->pairs_missing) report->message += " " + id;
+    }
+    cloud_pub_.publish(cloud);
     report_pub_.publish(report);
-    NODELET_INFO("%s", message.c_str());
+    if (report->pairs_missing.empty())
+      NODELET_INFO("%s, merged in %.0f ms", report->message.c_str(),
+                   1000 * report->stage_seconds.back());
+    else
+      NODELET_WARN("%s", report->message.c_str());
   }
 
   std::string world_frame_;
-  MergeParams params_;
-  double tf_wait_ = 0.5;
+  MergeOptions options_;
   std::mutex mutex_;
-  std::unique_ptr<Assembler> assembler_;
-  body_scan_msgs::TimingGroups::ConstPtr timing_groups_;
+  std::unique_ptr<ScanAssembler<Part>> assembler_;
+  body_scan_msgs::TimingGroupsConstPtr groups_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Publisher cloud_pub_, report_pub_;
+  std::vector<ros::Subscriber> subscribers_;
   ros::Subscriber groups_sub_;
-  std::vector<ros::Subscriber> pair_subs_;
-  ros::WallTimer poll_timer_;
+  ros::WallTimer timer_;
 };
 
 }  // namespace body_scan

@@ -1,4 +1,5 @@
-// Triangulate: pattern_set -> points (organized PointCloud2 xyz + rgb) + stripe_image.
+// Triangulate: pattern_set -> scan_points (PairCloud: the organized xyz + rgb cloud with its
+// scan id, for Merge), points (the same PointCloud2 for rviz, when subscribed) + stripe_image.
 // Decoding and triangulation are body_scan_driver's core functions; this is the ROS wrapper.
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/stripe_decoder.h>
@@ -11,7 +12,6 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -100,7 +100,7 @@ class TriangulateNodelet : public nodelet::Nodelet {
       frames.push_back(*frame);
     }
     if (!ensureCalibration(pair)) return;
-    const auto start = std::chrono::steady_clock::now();
+    const ros::WallTime start = ros::WallTime::now();
     try {
       if (!decoder_ || decoder_->layout().bits() != set->bits ||
           decoder_->layout().inverseFrames() != set->inverse_frames)
@@ -115,10 +115,11 @@ class TriangulateNodelet : public nodelet::Nodelet {
   }
 
   void publish(const body_scan_msgs::PatternSet& set, const cv::Size& size,
-               std::chrono::steady_clock::time_point start) {
-    // The cloud is built in place inside the PairCloud message (no copy); `points` (rviz) gets
-    // a copy only when someone listens.
+               const ros::WallTime& start) {
     body_scan_msgs::PairCloudPtr pair_cloud(new body_scan_msgs::PairCloud);
+    pair_cloud->header = set.header;
+    pair_cloud->pair_id = set.pair_id;
+    pair_cloud->scan_id = set.scan_id;
     sensor_msgs::PointCloud2* cloud = &pair_cloud->cloud;
     cloud->header = set.header;
     cloud->height = size.height;
@@ -157,12 +158,10 @@ class TriangulateNodelet : public nodelet::Nodelet {
         const cv::Vec3b c = coloured ? texture->at<cv::Vec3b>(v, u) : cv::Vec3b(255, 255, 255);
         points[4 * (static_cast<size_t>(v) * size.width + u) + 3] = packRgb(c[0], c[1], c[2]);
       }
-    pair_cloud->header = set.header;
-    pair_cloud->pair_id = set.pair_id;
-    pair_cloud->scan_id = set.scan_id;
-    pair_cloud->processing_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (points_pub_.getNumSubscribers() > 0) points_pub_.publish(pair_cloud->cloud);
+    pair_cloud->processing_seconds = (ros::WallTime::now() - start).toSec();
+    // Shared pointers: no copy to subscribers in this manager; rviz's copy only when watched.
+    if (points_pub_.getNumSubscribers() > 0)
+      points_pub_.publish(sensor_msgs::PointCloud2Ptr(new sensor_msgs::PointCloud2(*cloud)));
     scan_points_pub_.publish(pair_cloud);
     NODELET_DEBUG("[%s] scan %u: %zu points", set.pair_id.c_str(), set.scan_id, valid);
 

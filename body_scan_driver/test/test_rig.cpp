@@ -1,0 +1,159 @@
+// The rig file (sim/rig.h) and interference between the pairs of a rig (thesis 4.3, Fig 4.7).
+#include <body_scan_driver/sim/rig.h>
+#include <body_scan_driver/stripe_decoder.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/core.hpp>
+
+using namespace body_scan;
+
+namespace {
+
+const std::string kConfigDir = BODY_SCAN_DRIVER_CONFIG_DIR;
+
+std::string writeRig(const std::string& text) {
+  const std::string path = std::filesystem::temp_directory_path() / "body_scan_test_rig.yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string loadError(const std::string& text) {
+  try {
+    sim::loadRig(writeRig(text));
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// Pixels of the person (truth) whose decoded stripe is more than one stripe off the truth,
+// as a fraction of the person's lit pixels.
+double wrongStripeFraction(const sim::RenderedPatternSet& set, const sim::Scene& scene,
+                           const PatternLayout& layout) {
+  StripeImage decoded;
+  StripeDecoder(layout).decode(set.frames, decoded);
+  int lit = 0, wrong = 0;
+  for (int v = 0; v < decoded.coordinate.rows; ++v)
+    for (int u = 0; u < decoded.coordinate.cols; ++u) {
+      const int surface = set.truth.surface(v, u);
+      const float truth = set.truth.stripe(v, u);
+      if (surface < 0 || std::isnan(truth) ||
+          scene.surfaces()[surface]->name.rfind("person/", 0) != 0)
+        continue;
+      ++lit;
+      const float got = decoded.coordinate(v, u);
+      wrong += !std::isnan(got) && std::abs(got - truth) > 1.f;
+    }
+  return lit > 0 ? static_cast<double>(wrong) / lit : 1.0;
+}
+
+}  // namespace
+
+TEST(Rig, TheDefaultRigHasThreePolesOfFourPairsLookingAtTheSubject) {
+  const sim::Rig rig = sim::loadRig(kConfigDir + "/rigs/thesis_rig.yaml");
+  ASSERT_EQ(rig.pairs.size(), 12u);
+  EXPECT_EQ(rig.poles, (std::vector<std::string>{"pole_a", "pole_b", "pole_c"}));
+  EXPECT_EQ(rig.pairs.front().pair_id, "pole_a/pair_1");
+  EXPECT_EQ(rig.pairs.back().pair_id, "pole_c/pair_4");
+  double min_x = 1e9, max_x = -1e9, min_y = 1e9, max_y = -1e9;
+  for (const sim::VirtualPairConfig& pair : rig.pairs) {
+    const Eigen::Vector3d position = pair.world_from_camera.translation();
+    const Eigen::Vector3d axis = pair.world_from_camera.linear().col(2);  // optical axis
+    // About 1 m from the subject's axis, looking at it (horizontally within 3 degrees).
+    const double distance = position.head<2>().norm();
+    EXPECT_GT(distance, 0.9) << pair.pair_id;
+    EXPECT_LT(distance, 1.2) << pair.pair_id;
+    const Eigen::Vector2d toward = -position.head<2>().normalized();
+    EXPECT_GT(axis.head<2>().normalized().dot(toward), std::cos(3 * M_PI / 180)) << pair.pair_id;
+    min_x = std::min(min_x, position.x()), max_x = std::max(max_x, position.x());
+    min_y = std::min(min_y, position.y()), max_y = std::max(max_y, position.y());
+  }
+  // Footprint about 1200 x 2000 mm (thesis ch. 4).
+  EXPECT_NEAR(max_y - min_y, 1.2, 0.15);
+  EXPECT_NEAR(max_x - min_x, 1.9, 0.2);
+  // Pairs stacked head to toe, pair_1 on top.
+  EXPECT_GT(rig.pair("pole_b/pair_1").world_from_camera.translation().z(),
+            rig.pair("pole_b/pair_4").world_from_camera.translation().z() + 1.0);
+}
+
+TEST(Rig, BadRigFilesNameTheProblem) {
+  EXPECT_NE(loadError("poles: []").find("non-empty list of poles"), std::string::npos);
+  EXPECT_NE(loadError("poles: [{name: a, position: [1, 0], pairs: [{name: p}]}]").find("'height'"),
+            std::string::npos);
+  EXPECT_NE(
+      loadError("poles: [{name: a, position: [1, 0], pairs: [{name: p, height: 1, tilt: 3}]}]")
+          .find("unknown key 'tilt'"),
+      std::string::npos);
+  EXPECT_NE(loadError("poles: [{name: a, position: [1, 0, 0], pairs: [{name: p, height: 1}]}]")
+                .find("[x, y]"),
+            std::string::npos);
+  EXPECT_NE(loadError("poles: [{name: a, position: [1, 0], pairs: [{name: p, height: 1}, "
+                      "{name: p, height: 2}]}]")
+                .find("repeats"),
+            std::string::npos);
+  EXPECT_NE(loadError("pair_defaults: {camera: {focal: 3}}\npoles: []").find("'focal'"),
+            std::string::npos);
+  const sim::Rig rig = sim::loadRig(kConfigDir + "/rigs/thesis_rig.yaml");
+  try {
+    rig.pair("pole_z/pair_9");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("pole_a/pair_1"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Rig, PairDefaultsApplyToEveryPair) {
+  const sim::Rig rig = sim::loadRig(
+      writeRig("pair_defaults: {camera: {alpha: 700, beta: 700}, sensor: {noise_sigma: 0}}\n"
+               "poles: [{name: a, position: [1, 0], pairs: [{name: p, height: 1.2, seed: 7}]}]"));
+  ASSERT_EQ(rig.pairs.size(), 1u);
+  EXPECT_EQ(rig.pairs[0].camera.alpha, 700);
+  EXPECT_EQ(rig.pairs[0].sensor.noise_sigma, 0);
+  EXPECT_EQ(rig.pairs[0].sensor.seed, 7u);
+  EXPECT_NEAR(rig.pairs[0].world_from_camera.translation().z(), 1.2, 1e-12);
+}
+
+// All 12 pairs projecting at once: other pairs' stripes corrupt a pair's decoding wherever
+// their light falls on what it sees; alone, it decodes cleanly. A pair whose view the other's
+// light cannot reach is unaffected (frames bit-identical).
+TEST(Rig, OtherPairsLightCorruptsDecodingOnlyWhereItReaches) {
+  const sim::Rig rig = sim::loadRig(kConfigDir + "/rigs/thesis_rig.yaml");
+  auto scene =
+      std::make_shared<sim::Scene>(sim::loadScene(kConfigDir + "/scenes/standing_person.yaml"));
+  std::vector<sim::VirtualPair> others;
+  for (const auto& config : rig.pairs)
+    others.push_back(sim::VirtualPair::projectorOnly(config, scene));
+  std::vector<const sim::VirtualPair*> all;
+  for (const auto& other : others) all.push_back(&other);
+
+  for (const char* id : {"pole_a/pair_2", "pole_c/pair_3"}) {
+    const sim::VirtualPair pair(rig.pair(id), scene);
+    const auto start = std::chrono::steady_clock::now();
+    const double alone = wrongStripeFraction(pair.render(1), *scene, pair.layout());
+    const auto middle = std::chrono::steady_clock::now();
+    const double together = wrongStripeFraction(pair.render(1, all), *scene, pair.layout());
+    const auto end = std::chrono::steady_clock::now();
+    std::cout << "[ figure ] " << id << ": wrong stripes on the person alone " << 100 * alone
+              << " %, with all 12 pairs projecting " << 100 * together << " % (render "
+              << std::chrono::duration<double, std::milli>(middle - start).count() << " / "
+              << std::chrono::duration<double, std::milli>(end - middle).count() << " ms)\n";
+    EXPECT_LT(alone, 0.002) << id;
+    EXPECT_GT(together, 0.02) << id;
+  }
+
+  // The back pole's bottom pair lights the back of the legs: the front-left top pair never
+  // sees it, so its frames do not change at all.
+  const sim::VirtualPair front_top(rig.pair("pole_a/pair_1"), scene);
+  const sim::VirtualPair back_bottom =
+      sim::VirtualPair::projectorOnly(rig.pair("pole_c/pair_4"), scene);
+  const auto alone = front_top.render(3);
+  const auto with_back = front_top.render(3, {&back_bottom});
+  int changed = 0;
+  for (size_t f = 0; f < alone.frames.size(); ++f)
+    changed += cv::countNonZero(alone.frames[f] != with_back.frames[f]);
+  EXPECT_EQ(changed, 0);
+}
