@@ -311,8 +311,13 @@ ScanAccuracy evaluateScan(const std::vector<Eigen::Vector3f>& cloud,
   }
   for (size_t i = 0; i < samples.size(); ++i) {
     RegionCoverage& region = result.regions[static_cast<int>(samples[i].region)];
+    RegionCoverage& surface = result.surfaces[samples[i].surface_index];
     region.area += samples[i].area;
-    if (covered[i]) region.covered_area += samples[i].area;
+    if (samples[i].region != BodyRegion::kSoles) surface.area += samples[i].area;
+    if (covered[i]) {
+      region.covered_area += samples[i].area;
+      if (samples[i].region != BodyRegion::kSoles) surface.covered_area += samples[i].area;
+    }
   }
   double covered_area = 0;
   for (int r = 0; r < kBodyRegionCount; ++r) {
@@ -329,7 +334,8 @@ ScanAccuracy evaluateScan(const std::vector<Eigen::Vector3f>& cloud, const sim::
   return evaluateScan(cloud, sampleTrueSurface(scene, options), options);
 }
 
-std::string scanAccuracyYaml(const ScanAccuracy& a, const ScanAccuracyOptions& options) {
+std::string scanAccuracyYaml(const ScanAccuracy& a, const ScanAccuracyOptions& options,
+                             const sim::Scene* scene) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(3);
   out << "# Scan accuracy against the simulator's true surface (evaluate_scan)\n";
@@ -353,12 +359,19 @@ std::string scanAccuracyYaml(const ScanAccuracy& a, const ScanAccuracyOptions& o
         << ", coverage_percent: " << std::setprecision(2) << 100 * a.regions[r].fraction() << "}\n";
     out << std::setprecision(3);
   }
+  if (scene) {
+    out << "surfaces:  # soles excluded\n";
+    for (const auto& [index, coverage] : a.surfaces)
+      out << "  " << scene->surfaces().at(index)->name << ": {area_m2: " << std::setprecision(4)
+          << coverage.area << ", coverage_percent: " << std::setprecision(2)
+          << 100 * coverage.fraction() << "}\n";
+  }
   return out.str();
 }
 
 void writeScanAccuracyReport(const std::string& path, const ScanAccuracy& accuracy,
-                             const ScanAccuracyOptions& options) {
-  writeFileAtomically(path, scanAccuracyYaml(accuracy, options));
+                             const ScanAccuracyOptions& options, const sim::Scene* scene) {
+  writeFileAtomically(path, scanAccuracyYaml(accuracy, options, scene));
 }
 
 }  // namespace body_scan

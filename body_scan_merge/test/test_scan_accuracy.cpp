@@ -174,6 +174,10 @@ TEST_F(ScanAccuracyTest, ReportIsWrittenAndCloudFilesReadBack) {
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("coverage_percent: 100"), std::string::npos) << text;
   EXPECT_NE(text.find("armpit_left:"), std::string::npos) << text;
+  EXPECT_EQ(text.find("person/left_thigh:"), std::string::npos) << "no scene, no names";
+  EXPECT_NE(scanAccuracyYaml(a, {}, scene_).find("person/left_thigh: {area_m2: 0.1"),
+            std::string::npos)
+      << scanAccuracyYaml(a, {}, scene_);
   std::remove((dir + "/report.yaml").c_str());
   rmdir(dir.c_str());
 }

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstddef>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,7 @@ struct ScanAccuracy {
   double body_area = 0;  // m^2, soles excluded
   double coverage = 0;   // area fraction of body_area covered
   std::array<RegionCoverage, kBodyRegionCount> regions;
+  std::map<int, RegionCoverage> surfaces;  // by Scene::surfaces() index: where coverage is lost
 };
 
 ScanAccuracy evaluateScan(const std::vector<Eigen::Vector3f>& cloud,
@@ -80,9 +82,11 @@ ScanAccuracy evaluateScan(const std::vector<Eigen::Vector3f>& cloud,
 ScanAccuracy evaluateScan(const std::vector<Eigen::Vector3f>& cloud, const sim::Scene& scene,
                           const ScanAccuracyOptions& options = {});
 
-// The report as YAML text (distances in mm, coverage in %), and written atomically.
-std::string scanAccuracyYaml(const ScanAccuracy& accuracy, const ScanAccuracyOptions& options);
+// The report as YAML text (distances in mm, coverage in %), and written atomically. With the
+// scene, the coverage of each body surface is listed by name too.
+std::string scanAccuracyYaml(const ScanAccuracy& accuracy, const ScanAccuracyOptions& options,
+                             const sim::Scene* scene = nullptr);
 void writeScanAccuracyReport(const std::string& path, const ScanAccuracy& accuracy,
-                             const ScanAccuracyOptions& options);
+                             const ScanAccuracyOptions& options, const sim::Scene* scene = nullptr);
 
 }  // namespace body_scan

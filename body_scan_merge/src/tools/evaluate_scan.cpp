@@ -42,9 +42,10 @@ int main(int argc, char** argv) {
     const auto cloud = readPointCloud(args["--cloud"]);
     const sim::Scene scene = sim::loadScene(args["--scene"]);
     const ScanAccuracy accuracy = evaluateScan(cloud, scene, options);
-    const std::string yaml = scanAccuracyYaml(accuracy, options);
+    const std::string yaml = scanAccuracyYaml(accuracy, options, &scene);
     std::cout << yaml;
-    if (args.count("--report")) writeScanAccuracyReport(args["--report"], accuracy, options);
+    if (args.count("--report"))
+      writeScanAccuracyReport(args["--report"], accuracy, options, &scene);
   } catch (const std::exception& e) {
     std::cerr << "evaluate_scan: " << e.what() << "\n";
     return 1;
