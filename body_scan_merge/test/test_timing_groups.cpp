@@ -71,7 +71,7 @@ TEST(TimingGroups, PairsFacingEachOtherDoNotConflictPairsSideBySideDo) {
 TEST(TimingGroups, TheColouringIsMinimal) {
   std::mt19937 generator(5);
   for (int trial = 0; trial < 60; ++trial) {
-    const int n = 3 + trial % 7;
+    const int n = 3 + trial % 6;
     std::bernoulli_distribution edge(0.2 + 0.01 * trial);
     std::vector<std::vector<bool>> graph(n, std::vector<bool>(n, false));
     for (int a = 0; a < n; ++a)

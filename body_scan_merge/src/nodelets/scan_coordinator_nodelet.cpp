@@ -143,6 +143,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
       response.groups.push_back(line);
       captureGroup(group, response.scan_id, response.pairs_missing);
     }
+    std::sort(response.pairs_missing.begin(), response.pairs_missing.end());
     response.simulated_capture_seconds = plan_.groups.size() * group_seconds_;
     response.success = response.pairs_missing.empty();
     std::ostringstream message;
@@ -178,7 +179,8 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
           if (other != id) capture.request.active_pairs.push_back(other);
         const std::string service = ros::names::append(root_, id + "/driver/capture");
         std::string error;
-        if (!ros::service::exists(service, false))
+        // A driver may still be coming up: wait for its service as long as for its answer.
+        if (!ros::service::waitForService(service, ros::Duration(pair_timeout_)))
           error = service + " is not advertised (is the pair's driver running?)";
         else if (!ros::service::call(service, capture))
           error = service + " call failed";
