@@ -1,0 +1,39 @@
+// A whole-body scan of a simulated rig at core level (no ROS): every pair of the rig renders
+// the scene by timing groups (members' light interfering, thesis 4.3), is decoded
+// (StripeDecoder), triangulated with its factory calibration (Triangulator) and moved to the
+// world frame: the cloud the full scanner would merge, without cropping or filtering.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace body_scan {
+namespace sim {
+class Scene;
+struct Rig;
+}  // namespace sim
+
+struct SimulatedScan {
+  std::vector<Eigen::Vector3f> points;                   // world frame
+  std::vector<std::pair<std::string, size_t>> per_pair;  // points of each pair, rig order
+};
+
+// Groups of pair ids projecting at the same time. Every pair of the rig must be in exactly one
+// group; throws std::invalid_argument naming the pair otherwise.
+using TimingGroupList = std::vector<std::vector<std::string>>;
+TimingGroupList eachPairAlone(const sim::Rig& rig);
+TimingGroupList allPairsTogether(const sim::Rig& rig);
+// The groups planTimingGroups computes from the rig's factory calibrations and poses.
+TimingGroupList plannedTimingGroups(const sim::Rig& rig);
+// YAML: a sequence of sequences of pair ids. Throws std::runtime_error naming the file.
+TimingGroupList loadTimingGroups(const std::string& path);
+
+SimulatedScan simulateScan(const sim::Rig& rig, const std::shared_ptr<const sim::Scene>& scene,
+                           const TimingGroupList& groups, uint32_t scan_id = 1);
+
+}  // namespace body_scan

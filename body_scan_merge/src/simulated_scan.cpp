@@ -1,0 +1,108 @@
+#include <body_scan_driver/sim/rig.h>
+#include <body_scan_driver/stripe_decoder.h>
+#include <body_scan_driver/triangulation.h>
+#include <body_scan_merge/simulated_scan.h>
+#include <body_scan_merge/timing_groups.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+namespace body_scan {
+
+TimingGroupList eachPairAlone(const sim::Rig& rig) {
+  TimingGroupList groups;
+  for (const auto& id : rig.pairIds()) groups.push_back({id});
+  return groups;
+}
+
+TimingGroupList allPairsTogether(const sim::Rig& rig) { return {rig.pairIds()}; }
+
+TimingGroupList plannedTimingGroups(const sim::Rig& rig) {
+  auto empty = std::make_shared<sim::Scene>();
+  std::vector<PairGeometry> pairs;
+  for (const auto& config : rig.pairs)
+    pairs.push_back({config.pair_id,
+                     sim::VirtualPair::projectorOnly(config, empty).factoryCalibration(),
+                     config.world_from_camera});
+  return planTimingGroups(pairs).groups;
+}
+
+TimingGroupList loadTimingGroups(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error("timing groups '" + path + "': " + e.what());
+  }
+  if (!root.IsSequence())
+    throw std::runtime_error("timing groups '" + path +
+                             "': expected a list of groups, each a list of pair ids, e.g. "
+                             "[[pole_a/pair_1, pole_b/pair_3], [pole_c/pair_2]]");
+  TimingGroupList groups;
+  for (const auto& group : root) {
+    if (!group.IsSequence())
+      throw std::runtime_error("timing groups '" + path + "': every group must be a list of ids");
+    groups.emplace_back();
+    for (const auto& id : group) groups.back().push_back(id.as<std::string>());
+  }
+  return groups;
+}
+
+SimulatedScan simulateScan(const sim::Rig& rig, const std::shared_ptr<const sim::Scene>& scene,
+                           const TimingGroupList& groups, uint32_t scan_id) {
+  std::map<std::string, int> seen;
+  for (const auto& group : groups)
+    for (const auto& id : group) {
+      rig.pair(id);  // throws naming the id if the rig has no such pair
+      if (seen[id]++)
+        throw std::invalid_argument("timing groups: pair '" + id + "' is in two groups");
+    }
+  for (const auto& id : rig.pairIds())
+    if (!seen.count(id))
+      throw std::invalid_argument("timing groups: pair '" + id +
+                                  "' is in no group; every rig pair must be triggered once");
+
+  std::vector<sim::VirtualPair> projectors;
+  projectors.reserve(rig.pairs.size());
+  for (const auto& config : rig.pairs)
+    projectors.push_back(sim::VirtualPair::projectorOnly(config, scene));
+  auto projector = [&](const std::string& id) -> const sim::VirtualPair* {
+    for (const auto& p : projectors)
+      if (p.config().pair_id == id) return &p;
+    return nullptr;
+  };
+
+  std::map<std::string, size_t> counts;
+  SimulatedScan scan;
+  for (const auto& group : groups) {
+    std::vector<const sim::VirtualPair*> members;
+    for (const auto& id : group) members.push_back(projector(id));
+    for (const auto& id : group) {
+      const sim::VirtualPair pair(rig.pair(id), scene);
+      std::vector<const sim::VirtualPair*> others;
+      for (const auto* m : members)
+        if (m->config().pair_id != id) others.push_back(m);
+      const sim::RenderedPatternSet set = pair.render(scan_id, others);
+      StripeImage decoded;
+      StripeDecoder(pair.layout()).decode(set.frames, decoded);
+      const Triangulator triangulator(pair.factoryCalibration());
+      std::vector<float> xyz(3 * decoded.coordinate.total());
+      triangulator.triangulate(decoded.coordinate, xyz.data(), 3);
+      const Eigen::Isometry3f world_from_camera = pair.config().world_from_camera.cast<float>();
+      size_t count = 0;
+      for (size_t i = 0; i < decoded.coordinate.total(); ++i) {
+        const Eigen::Vector3f p(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+        if (!p.allFinite()) continue;
+        scan.points.push_back(world_from_camera * p);
+        ++count;
+      }
+      counts[id] = count;
+    }
+  }
+  for (const auto& id : rig.pairIds()) scan.per_pair.emplace_back(id, counts[id]);
+  return scan;
+}
+
+}  // namespace body_scan

@@ -1,0 +1,60 @@
+// The simulated full scan of the default rig at core level (every pair rendered by its timing
+// group, decoded, triangulated with the factory calibration, moved to the world) against the
+// true surface (eval::evaluateScan): issue 4's targets, and what interference does.
+#include <body_scan_driver/sim/rig.h>
+#include <body_scan_merge/eval/scan_accuracy.h>
+#include <body_scan_merge/simulated_scan.h>
+#include <gtest/gtest.h>
+
+using namespace body_scan;
+
+namespace {
+const std::string kDriverConfig = BODY_SCAN_DRIVER_CONFIG_DIR;
+
+eval::ScanAccuracy evaluate(const SimulatedScan& scan, const sim::Scene& scene) {
+  std::vector<float> cloud;  // x y z rgb, as the merge writes them
+  cloud.reserve(4 * scan.points.size());
+  for (const auto& p : scan.points) cloud.insert(cloud.end(), {p.x(), p.y(), p.z(), 0.f});
+  return eval::evaluateScan(cloud, scene);
+}
+
+void print(const std::string& what, const eval::ScanAccuracy& a) {
+  std::cout << "[ figure ] " << what << ": " << a.points << " points, mean "
+            << 1000 * a.mean_distance << " mm, p95 " << 1000 * a.p95_distance << " mm, outliers "
+            << a.outliers << ", coverage " << 100 * a.body.fraction() << " %;";
+  for (const auto& [region, coverage] : a.regions)
+    std::cout << " " << eval::regionName(region) << " " << 100 * coverage.fraction() << " %";
+  std::cout << "\n";
+}
+
+const eval::Region kHardRegions[] = {eval::Region::kUnderChin,     eval::Region::kArmpitLeft,
+                                     eval::Region::kArmpitRight,   eval::Region::kGroin,
+                                     eval::Region::kTorsoSideLeft, eval::Region::kTorsoSideRight};
+}  // namespace
+
+TEST(SimulatedScan, DefaultRigMeetsTheAccuracyAndCoverageTargets) {
+  const sim::Rig rig = sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
+  auto scene = std::make_shared<const sim::Scene>(
+      sim::loadScene(kDriverConfig + "/scenes/standing_person.yaml"));
+  const SimulatedScan scan = simulateScan(rig, scene, plannedTimingGroups(rig));
+  ASSERT_EQ(scan.per_pair.size(), 12u);
+  for (const auto& [id, count] : scan.per_pair) EXPECT_GT(count, 1000u) << id;
+  const eval::ScanAccuracy a = evaluate(scan, *scene);
+  print("default rig, planned groups, standing_person", a);
+  EXPECT_LE(a.mean_distance, 0.002);
+  EXPECT_GE(a.body.fraction(), 0.95);
+  for (eval::Region r : kHardRegions)
+    EXPECT_GE(a.regions.at(r).fraction(), 0.80) << eval::regionName(r);
+}
+
+TEST(SimulatedScan, GroupsMustCoverEveryPairOnce) {
+  const sim::Rig rig = sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
+  auto scene = std::make_shared<const sim::Scene>();
+  TimingGroupList groups = eachPairAlone(rig);
+  groups.pop_back();
+  EXPECT_THROW(simulateScan(rig, scene, groups), std::invalid_argument);
+  groups = eachPairAlone(rig);
+  groups.push_back({groups.front().front()});
+  EXPECT_THROW(simulateScan(rig, scene, groups), std::invalid_argument);
+  EXPECT_EQ(allPairsTogether(rig).front().size(), 12u);
+}
