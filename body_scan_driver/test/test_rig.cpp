@@ -1,4 +1,5 @@
 // The rig file (sim/rig.h) and interference between the pairs of a rig (thesis 4.3, Fig 4.7).
+#include <body_scan_driver/sim/decoding_errors.h>
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <gtest/gtest.h>
@@ -28,27 +29,6 @@ std::string loadError(const std::string& text) {
     return e.what();
   }
   return "no error";
-}
-
-// Pixels of the person (truth) whose decoded stripe is more than one stripe off the truth,
-// as a fraction of the person's lit pixels.
-double wrongStripeFraction(const sim::RenderedPatternSet& set, const sim::Scene& scene,
-                           const PatternLayout& layout) {
-  StripeImage decoded;
-  StripeDecoder(layout).decode(set.frames, decoded);
-  int lit = 0, wrong = 0;
-  for (int v = 0; v < decoded.coordinate.rows; ++v)
-    for (int u = 0; u < decoded.coordinate.cols; ++u) {
-      const int surface = set.truth.surface(v, u);
-      const float truth = set.truth.stripe(v, u);
-      if (surface < 0 || std::isnan(truth) ||
-          scene.surfaces()[surface]->name.rfind("person/", 0) != 0)
-        continue;
-      ++lit;
-      const float got = decoded.coordinate(v, u);
-      wrong += !std::isnan(got) && std::abs(got - truth) > 1.f;
-    }
-  return lit > 0 ? static_cast<double>(wrong) / lit : 1.0;
 }
 
 }  // namespace
@@ -133,9 +113,9 @@ TEST(Rig, OtherPairsLightCorruptsDecodingOnlyWhereItReaches) {
   for (const char* id : {"pole_a/pair_2", "pole_c/pair_3"}) {
     const sim::VirtualPair pair(rig.pair(id), scene);
     const auto start = std::chrono::steady_clock::now();
-    const double alone = wrongStripeFraction(pair.render(1), *scene, pair.layout());
+    const double alone = sim::wrongStripeFraction(pair.render(1), *scene, pair.layout());
     const auto middle = std::chrono::steady_clock::now();
-    const double together = wrongStripeFraction(pair.render(1, all), *scene, pair.layout());
+    const double together = sim::wrongStripeFraction(pair.render(1, all), *scene, pair.layout());
     const auto end = std::chrono::steady_clock::now();
     std::cout << "[ figure ] " << id << ": wrong stripes on the person alone " << 100 * alone
               << " %, with all 12 pairs projecting " << 100 * together << " % (render "

@@ -1,6 +1,7 @@
 // Timing groups (thesis 4.3, Fig 4.7): conflicts from the calibrated geometry, a minimum
 // colouring, and - measured with the simulator - that the computed groups do not corrupt any
 // pair's decoding while all 12 pairs at once do.
+#include <body_scan_driver/sim/decoding_errors.h>
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_merge/timing_groups.h>
@@ -115,25 +116,9 @@ TEST(TimingGroups, TheComputedGroupsOfTheDefaultRigDoNotInterfere) {
   std::vector<const sim::VirtualPair*> everyone;
   for (const auto& p : projectors) everyone.push_back(&p);
 
-  // Fraction of the person's lit pixels decoded more than one stripe off the truth.
   auto wrong = [&](const sim::VirtualPair& pair,
                    const std::vector<const sim::VirtualPair*>& others) {
-    const sim::RenderedPatternSet set = pair.render(1, others);
-    StripeImage decoded;
-    StripeDecoder(pair.layout()).decode(set.frames, decoded);
-    int lit = 0, bad = 0;
-    for (int v = 0; v < decoded.coordinate.rows; ++v)
-      for (int u = 0; u < decoded.coordinate.cols; ++u) {
-        const int surface = set.truth.surface(v, u);
-        const float truth = set.truth.stripe(v, u);
-        if (surface < 0 || std::isnan(truth) ||
-            scene->surfaces()[surface]->name.rfind("person/", 0) != 0)
-          continue;
-        ++lit;
-        const float got = decoded.coordinate(v, u);
-        bad += !std::isnan(got) && std::abs(got - truth) > 1.f;
-      }
-    return lit ? static_cast<double>(bad) / lit : 0.0;
+    return sim::wrongStripeFraction(pair.render(1, others), *scene, pair.layout());
   };
   double worst_grouped = 0, worst_alone = 0, worst_all = 0;
   for (const auto& group : plan.groups)

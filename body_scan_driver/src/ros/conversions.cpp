@@ -48,4 +48,23 @@ body_scan_msgs::PatternSetPtr toPatternSet(const PatternCapture& capture,
   return set;
 }
 
+void layoutFloatCloud(sensor_msgs::PointCloud2& cloud, uint32_t width, uint32_t height, bool rgb) {
+  const char* names[] = {"x", "y", "z", "rgb"};
+  cloud.fields.clear();
+  for (uint32_t i = 0; i < (rgb ? 4u : 3u); ++i) {
+    sensor_msgs::PointField field;
+    field.name = names[i];
+    field.offset = 4 * i;
+    field.datatype = sensor_msgs::PointField::FLOAT32;
+    field.count = 1;
+    cloud.fields.push_back(field);
+  }
+  cloud.width = width;
+  cloud.height = height;
+  cloud.point_step = rgb ? 16 : 12;
+  cloud.row_step = cloud.point_step * width;
+  cloud.is_bigendian = false;
+  cloud.data.resize(static_cast<size_t>(cloud.row_step) * height);
+}
+
 }  // namespace body_scan

@@ -1,6 +1,7 @@
 // Merge: the pair clouds of one scan id (/<pair>/scan_points) -> /body_scan/cloud (world frame,
 // cropped to the scan volume, optional voxel grid and outlier removal) + /body_scan/scan_report.
 // A pair that never answers is reported after ~timeout and the scan is assembled without it.
+#include <body_scan_driver/ros/conversions.h>
 #include <body_scan_merge/cloud_merge.h>
 #include <body_scan_merge/scan_assembler.h>
 #include <body_scan_msgs/PairCloud.h>
@@ -13,6 +14,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include <algorithm>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <pluginlib/class_list_macros.hpp>
@@ -147,22 +149,9 @@ class MergeNodelet : public nodelet::Nodelet {
     sensor_msgs::PointCloud2Ptr cloud(new sensor_msgs::PointCloud2);
     cloud->header.stamp = stamp.isZero() ? ros::Time::now() : stamp;
     cloud->header.frame_id = world_frame_;
-    cloud->height = 1;
-    cloud->width = static_cast<uint32_t>(merged.size());
-    const char* names[] = {"x", "y", "z", "rgb"};
-    for (uint32_t i = 0; i < 4; ++i) {
-      sensor_msgs::PointField field;
-      field.name = names[i];
-      field.offset = 4 * i;
-      field.datatype = sensor_msgs::PointField::FLOAT32;
-      field.count = 1;
-      cloud->fields.push_back(field);
-    }
-    cloud->point_step = 16;
-    cloud->row_step = cloud->point_step * cloud->width;
+    layoutFloatCloud(*cloud, static_cast<uint32_t>(merged.size()), 1, /*rgb=*/true);
     cloud->is_dense = true;
-    const auto* bytes = reinterpret_cast<const uint8_t*>(merged.xyzrgb.data());
-    cloud->data.assign(bytes, bytes + merged.xyzrgb.size() * sizeof(float));
+    std::memcpy(cloud->data.data(), merged.xyzrgb.data(), merged.xyzrgb.size() * sizeof(float));
 
     report->header = cloud->header;
     report->points_merged = cloud->width;

@@ -2,6 +2,7 @@
 // scan id, for Merge), points (the same PointCloud2 for rviz, when subscribed) + stripe_image.
 // Decoding and triangulation are body_scan_driver's core functions; this is the ROS wrapper.
 #include <body_scan_driver/calibration_file.h>
+#include <body_scan_driver/ros/conversions.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
 #include <body_scan_msgs/PairCloud.h>
@@ -122,22 +123,8 @@ class TriangulateNodelet : public nodelet::Nodelet {
     pair_cloud->scan_id = set.scan_id;
     sensor_msgs::PointCloud2* cloud = &pair_cloud->cloud;
     cloud->header = set.header;
-    cloud->height = size.height;
-    cloud->width = size.width;
-    const char* names[] = {"x", "y", "z", "rgb"};
-    for (uint32_t i = 0; i < 4; ++i) {
-      sensor_msgs::PointField field;
-      field.name = names[i];
-      field.offset = 4 * i;
-      field.datatype = sensor_msgs::PointField::FLOAT32;
-      field.count = 1;
-      cloud->fields.push_back(field);
-    }
-    cloud->point_step = 16;
-    cloud->row_step = cloud->point_step * cloud->width;
+    layoutFloatCloud(*cloud, size.width, size.height, /*rgb=*/true);
     cloud->is_dense = false;
-    cloud->is_bigendian = false;
-    cloud->data.resize(static_cast<size_t>(cloud->row_step) * cloud->height);
     float* points = reinterpret_cast<float*>(cloud->data.data());
     const size_t valid = triangulator_->triangulate(stripes_.coordinate, points, 4);
     // World alignment (eq 4.1): tf2 carries the rigid part world -> optical frame; the residual

@@ -11,6 +11,12 @@
 #include <iostream>
 #include <string>
 
+namespace {
+constexpr const char* kUsage =
+    "usage: evaluate_scan --cloud CLOUD.ply --scene SCENE.yaml [--report REPORT.yaml] "
+    "[--outliers OUTLIERS.ply]\n";
+}  // namespace
+
 int main(int argc, char** argv) {
   std::string cloud_path, scene_path, report_path, outliers_path;
   for (int i = 1; i < argc; ++i) {
@@ -31,17 +37,12 @@ int main(int argc, char** argv) {
       else
         throw std::invalid_argument("unknown argument " + arg);
     } catch (const std::exception& e) {
-      std::fprintf(stderr,
-                   "%s\nusage: evaluate_scan --cloud CLOUD.ply --scene SCENE.yaml "
-                   "[--report REPORT.yaml] [--outliers OUTLIERS.ply]\n",
-                   e.what());
+      std::fprintf(stderr, "%s\n%s", e.what(), kUsage);
       return 2;
     }
   }
   if (cloud_path.empty() || scene_path.empty()) {
-    std::fprintf(stderr,
-                 "usage: evaluate_scan --cloud CLOUD.ply --scene SCENE.yaml "
-                 "[--report REPORT.yaml] [--outliers OUTLIERS.ply]\n");
+    std::fprintf(stderr, "%s", kUsage);
     return 2;
   }
   try {
