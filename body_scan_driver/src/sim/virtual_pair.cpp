@@ -7,6 +7,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
+#include <stdexcept>
 
 namespace body_scan::sim {
 namespace {
@@ -129,7 +130,21 @@ struct VirtualPair::SurfaceSample {
   cv::Vec3f color{0, 0, 0};
 };
 
-RenderedPatternSet VirtualPair::render(uint32_t scan_id) const {
+RenderedPatternSet VirtualPair::render(
+    uint32_t scan_id, const std::vector<const VirtualPair*>& also_projecting) const {
+  std::vector<const VirtualPair*> others;
+  for (const VirtualPair* other : also_projecting) {
+    if (other == nullptr || other == this) continue;
+    if (other->scene_ != scene_)
+      throw std::invalid_argument("VirtualPair::render: pair " + other->config_.pair_id +
+                                  " projects into another scene than " + config_.pair_id +
+                                  " (build the rig's pairs on one shared scene)");
+    if (other->layout_.frameCount() != layout_.frameCount())
+      throw std::invalid_argument("VirtualPair::render: pair " + other->config_.pair_id +
+                                  " has another frame count than " + config_.pair_id +
+                                  " (synchronous pairs need the same pattern settings)");
+    others.push_back(other);
+  }
   const PinholeCamera& camera = config_.camera;
   const SensorModel& sensor = config_.sensor;
   const int rows = camera.height, cols = camera.width;
@@ -143,6 +158,14 @@ RenderedPatternSet VirtualPair::render(uint32_t scan_id) const {
   truth.surface.create(rows, cols);
   truth.skeleton = scene_->skeleton();
   std::vector<SurfaceSample> samples(static_cast<size_t>(rows) * cols);
+  std::vector<Eigen::Isometry3d> other_from_world;
+  for (const VirtualPair* other : others)
+    other_from_world.push_back(other->config_.world_from_camera.inverse());
+  // Light of the other pairs at each pixel: their stripe id (-1 = none) and level.
+  std::vector<std::vector<int16_t>> other_stripe(
+      others.size(), std::vector<int16_t>(others.empty() ? 0 : samples.size(), -1));
+  std::vector<std::vector<float>> other_level(
+      others.size(), std::vector<float>(others.empty() ? 0 : samples.size(), 0.f));
 
   // Printed patterns: mean albedo and colour of the surface over 4x4 samples of the pixel area.
   // Sample rays come from the pixel's ray and its central differences to the neighbouring
@@ -207,6 +230,23 @@ RenderedPatternSet VirtualPair::render(uint32_t scan_id) const {
         sample.color = toVec3f(color) * static_cast<float>(255.0 * (0.3 + 0.7 * facing));
 
         SweptLaserProjector::Plane plane;
+        for (size_t j = 0; j < others.size(); ++j) {
+          // The same lighting model as this pair's own light below, in the other pair's frame.
+          const VirtualPair& other = *others[j];
+          const Eigen::Isometry3d& other_pose = other.config_.world_from_camera;
+          const Eigen::Vector3d point_other = other_from_world[j] * point_world;
+          const double other_stripe_coordinate = other.trueStripe(point_other, &plane);
+          if (!std::isfinite(other_stripe_coordinate)) continue;
+          const Eigen::Vector3d to_source = plane.source - point_other;
+          const double distance = to_source.norm();
+          const double incidence =
+              (other_pose.linear().transpose() * hit.normal).dot(to_source) / distance;
+          if (incidence <= 0 || scene_->occluded(point_world, other_pose * plane.source)) continue;
+          other_stripe[j][index] = static_cast<int16_t>(std::clamp(
+              static_cast<int>(other_stripe_coordinate), 0, other.layout_.stripeCount() - 1));
+          other_level[j][index] = static_cast<float>(other.config_.sensor.projector_level * albedo *
+                                                     incidence / distance);
+        }
         const double stripe = trueStripe(point_camera, &plane);
         if (!std::isfinite(stripe)) continue;
         const Eigen::Vector3d to_source = plane.source - point_camera;
@@ -248,6 +288,13 @@ RenderedPatternSet VirtualPair::render(uint32_t scan_id) const {
   std::vector<std::vector<uint8_t>> lights(frames, std::vector<uint8_t>(stripes));
   for (int f = 0; f < frames; ++f)
     for (int k = 0; k < stripes; ++k) lights[f][k] = layout_.lights(f, k);
+  std::vector<std::vector<std::vector<uint8_t>>> other_lights(others.size());
+  for (size_t j = 0; j < others.size(); ++j) {
+    const PatternLayout& layout = others[j]->layout_;
+    other_lights[j].assign(frames, std::vector<uint8_t>(layout.stripeCount()));
+    for (int f = 0; f < frames; ++f)
+      for (int k = 0; k < layout.stripeCount(); ++k) other_lights[j][f][k] = layout.lights(f, k);
+  }
 
   auto add_noise = [&](const cv::Mat& image, uint64_t stream, cv::Mat& out) {
     size_t offset = mix(mix(sensor.seed) ^ mix(scan_id) ^ stream);
@@ -293,6 +340,13 @@ RenderedPatternSet VirtualPair::render(uint32_t scan_id) const {
             }
           }
           out[u] = sample.ambient_level + sample.projector_level * coverage;
+        }
+        for (size_t j = 0; j < others.size(); ++j) {  // the other pairs' light, if any
+          const int16_t* other = other_stripe[j].data() + static_cast<size_t>(v) * cols;
+          const float* level = other_level[j].data() + static_cast<size_t>(v) * cols;
+          const std::vector<uint8_t>& other_lit = other_lights[j][f];
+          for (int u = 0; u < cols; ++u)
+            if (other[u] >= 0 && other_lit[other[u]]) out[u] += level[u];
         }
       }
       optics(image);

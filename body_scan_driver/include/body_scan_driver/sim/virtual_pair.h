@@ -89,8 +89,15 @@ class VirtualPair {
  public:
   VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> scene);
 
-  // Deterministic for a given config, scene and scan id.
-  RenderedPatternSet render(uint32_t scan_id = 0) const;
+  // Deterministic for a given config, scene, scan id and set of other pairs.
+  // also_projecting: other pairs projecting at the same moment (thesis 4.3, Fig. 4.7: all pairs
+  // run the same frame sequence synchronously). Their light adds to this pair's frames where it
+  // reaches the surface this camera sees (their stripe in their own frame via their world pose,
+  // inside their fan, facing them, unoccluded, 1/distance falloff, albedo). Ground truth stays
+  // this pair's own stripe. They must share this pair's scene and frame count; this pair itself
+  // in the list is ignored. Empty: the pair alone (bit-identical to before interference).
+  RenderedPatternSet render(uint32_t scan_id = 0,
+                            const std::vector<const VirtualPair*>& also_projecting = {}) const;
   // The true geometry in the calibration model: intrinsics + the plane at each stripe centre.
   PairCalibration factoryCalibration() const;
 
