@@ -53,6 +53,10 @@ class PairDevice {
         "this pair captures the real world: its scene cannot be set; place the target by hand "
         "(or use backend:=sim)");
   }
+  // Names the other pairs (ids "<pole>/<pair>") projecting during the next capture() (thesis
+  // 4.3: interference). Hardware ignores it: physics adds their light. A simulated rig pair
+  // renders their light; it throws std::runtime_error naming an unknown id and the known ones.
+  virtual void setActivePairs(const std::vector<std::string>& /*pair_ids*/) {}
   // Called periodically by the driver: hardware reconnects here. Must not throw.
   virtual void poll() {}
   // Thread-safe: may be called while capture() runs. Not pure, so that devices written before
@@ -70,5 +74,13 @@ class PairDevice {
 // Throws std::runtime_error naming the file and the problem.
 std::unique_ptr<PairDevice> makeSimulatedPair(const std::string& pair_file,
                                               const std::string& scene_file);
+
+// One pair of a simulated rig (sim/rig.h): renders the scene file seen by pair `pair_id` of
+// the rig file, with the light of the pairs named by setActivePairs(). All pairs of the rig
+// share the scene (replaceScene replaces it for all). Throws std::runtime_error naming the file
+// or the unknown pair id.
+std::unique_ptr<PairDevice> makeSimulatedRigPair(const std::string& rig_file,
+                                                 const std::string& pair_id,
+                                                 const std::string& scene_file);
 
 }  // namespace body_scan
