@@ -31,6 +31,8 @@ CMAKE_BUILD_TYPE ?= Release
 #       nodelets, pluginlib, rostest/roslaunch (the test harness) and rosrun/roscd
 #   rviz: the demo's visualisation (launch/, rviz/)
 #   libcv-bridge-dev ... python3-rosbag: image, tf2 and bag APIs used by the nodes and demo;
+#       python3-sensor-msgs, python3-visualization-msgs: the scan report marker (rviz) and the
+#       record/replay rostest, both in Python;
 #       libcamera-calibration-parsers-dev: the test that ROS reads our calibration files
 #   libopencv-dev, libopencv-contrib-dev: OpenCV (contrib = structured_light, the reference
 #       decoder of the benchmarks); opencv-doc: its sample images
@@ -41,6 +43,8 @@ CMAKE_BUILD_TYPE ?= Release
 #       libdiagnostic-updater-dev, libdynamic-reconfigure-config-init-mutex-dev,
 #       python3-dynamic-reconfigure, python3-diagnostic-msgs: device health on /diagnostics
 #       (and `rostopic echo /diagnostics`), run-time camera settings
+#   libpcl-dev: the Merge nodelet's voxel grid and statistical outlier removal (PCL common and
+#       filters only; Debian ships PCL's headers in this one package)
 #   libgtest-dev, libbenchmark-dev: unit tests (catkin_add_gtest) and Google Benchmark
 #   xvfb, xauth: headless X for anything that needs a display; imagemagick: demo images
 DEB_PACKAGES := \
@@ -48,11 +52,11 @@ DEB_PACKAGES := \
 	pluginlib-dev librostest-dev python3-rostest python3-roslaunch ros-core rosbash rviz \
 	libcv-bridge-dev libimage-transport-dev libsensor-msgs-dev libtf2-ros-dev \
 	libcamera-calibration-parsers-dev \
-	librosbag-dev python3-rosbag \
+	librosbag-dev python3-rosbag python3-sensor-msgs python3-visualization-msgs \
 	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libceres-dev \
 	libusb-1.0-0-dev libuvc-dev libx11-dev libdiagnostic-updater-dev \
 	libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure python3-diagnostic-msgs \
-	libgtest-dev libbenchmark-dev \
+	libpcl-dev libgtest-dev libbenchmark-dev \
 	xvfb xauth imagemagick opencv-doc
 
 # Only `make format` needs these.

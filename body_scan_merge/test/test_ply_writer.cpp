@@ -31,6 +31,44 @@ TEST(PlyWriter, WritesFinitePointsWithColourAndAHeaderThatCountsThem) {
   EXPECT_FLOAT_EQ(xyz[2], 2.0f);
   EXPECT_EQ(static_cast<uint8_t>(content[body + 12]), 0x10);  // red
   EXPECT_EQ(static_cast<uint8_t>(content[body + 14]), 0xF0);  // blue
+  // And back.
+  const std::vector<float> read = body_scan::readPly(path);
+  ASSERT_EQ(read.size(), 8u);
+  EXPECT_FLOAT_EQ(read[4], -0.5f);
+  EXPECT_FLOAT_EQ(read[6], 2.0f);
+  uint32_t rgb_read;
+  std::memcpy(&rgb_read, &read[7], sizeof rgb_read);
+  EXPECT_EQ(rgb_read, packed);
+  std::ofstream(path, std::ios::app) << "x";  // trailing bytes are fine; a short file is not
+  std::filesystem::resize_file(path, content.size() - 1);
+  EXPECT_THROW(body_scan::readPly(path), std::runtime_error);
+  std::filesystem::remove(path);
+}
+
+TEST(PcdWriter, WritesABinaryPcdWithTheFinitePointsAndTheirPackedColour) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  float rgb;
+  const uint32_t packed = 0x10A0F0;
+  std::memcpy(&rgb, &packed, sizeof rgb);
+  const std::vector<float> cloud = {0.1f, 0.2f, 1.0f, rgb, nan, 0, 0, rgb, -0.5f, 0.25f, 2.0f, rgb};
+  const std::string path = std::filesystem::temp_directory_path() / "body_scan_test_cloud.pcd";
+  ASSERT_EQ(body_scan::writePcd(path, cloud.data(), 3, 4, 3), 2u);
+
+  std::ifstream file(path, std::ios::binary);
+  const std::string content((std::istreambuf_iterator<char>(file)),
+                            std::istreambuf_iterator<char>());
+  const std::string end = "DATA binary\n";
+  const size_t body = content.find(end) + end.size();
+  for (const char* line : {"FIELDS x y z rgb\n", "WIDTH 2\n", "HEIGHT 1\n", "POINTS 2\n"})
+    EXPECT_NE(content.find(line), std::string::npos) << line;
+  ASSERT_EQ(content.size() - body, 2u * 16u);
+  float point[4];
+  std::memcpy(point, content.data() + body + 16, sizeof point);
+  EXPECT_FLOAT_EQ(point[0], -0.5f);
+  EXPECT_FLOAT_EQ(point[1], 0.25f);
+  uint32_t colour;
+  std::memcpy(&colour, &point[3], sizeof colour);
+  EXPECT_EQ(colour, packed);
   std::filesystem::remove(path);
 }
 

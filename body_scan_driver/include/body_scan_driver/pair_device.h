@@ -53,9 +53,10 @@ class PairDevice {
         "this pair captures the real world: its scene cannot be set; place the target by hand "
         "(or use backend:=sim)");
   }
-  // Names the other pairs (ids "<pole>/<pair>") projecting during the next capture() (thesis
-  // 4.3: interference). Hardware ignores it: physics adds their light. A simulated rig pair
-  // renders their light; it throws std::runtime_error naming an unknown id and the known ones.
+  // The other pairs that project at the same time as the next capture(s) (the coordinator's
+  // timing group). Real pairs ignore it: their light interferes physically. The simulator
+  // renders those pairs' light into this pair's frames; it throws std::invalid_argument for an
+  // id it does not know.
   virtual void setActivePairs(const std::vector<std::string>& /*pair_ids*/) {}
   // Called periodically by the driver: hardware reconnects here. Must not throw.
   virtual void poll() {}
@@ -74,11 +75,9 @@ class PairDevice {
 // Throws std::runtime_error naming the file and the problem.
 std::unique_ptr<PairDevice> makeSimulatedPair(const std::string& pair_file,
                                               const std::string& scene_file);
-
-// One pair of a simulated rig (sim/rig.h): renders the scene file seen by pair `pair_id` of
-// the rig file, with the light of the pairs named by setActivePairs(). All pairs of the rig
-// share the scene (replaceScene replaces it for all). Throws std::runtime_error naming the file
-// or the unknown pair id.
+// One pair of a simulated rig (sim/rig.h): it knows every pair of the rig, so the light of the
+// pairs named by setActivePairs() interferes with its frames. Throws std::runtime_error naming
+// the file, or std::invalid_argument naming the pair id and the rig's ids.
 std::unique_ptr<PairDevice> makeSimulatedRigPair(const std::string& rig_file,
                                                  const std::string& pair_id,
                                                  const std::string& scene_file);

@@ -40,15 +40,12 @@ class PairDriverNodelet : public nodelet::Nodelet {
     // ROS serves callbacks as soon as they are advertised, and device_ is read without a lock.
     try {
       if (backend == "sim") {
-        // rig_file: the pair `pair_id` of a rig (it can render the other pairs' light);
-        // otherwise pair_file: a single pair.
+        // A pair of a rig (interference from the rig's other pairs) or a single pair file.
         const std::string rig_file = pnh.param<std::string>("rig_file", "");
-        if (!rig_file.empty())
-          device_ =
-              makeSimulatedRigPair(rig_file, pair_id_, pnh.param<std::string>("scene_file", ""));
-        else
-          device_ = makeSimulatedPair(pnh.param<std::string>("pair_file", ""),
-                                      pnh.param<std::string>("scene_file", ""));
+        const std::string scene_file = pnh.param<std::string>("scene_file", "");
+        device_ = rig_file.empty()
+                      ? makeSimulatedPair(pnh.param<std::string>("pair_file", ""), scene_file)
+                      : makeSimulatedRigPair(rig_file, pair_id_, scene_file);
       } else if (backend == "usb") {
         const hw::UsbPairSettings settings = usbSettings(pnh);
         usb_camera_settings_ = settings.camera_settings;
@@ -227,7 +224,7 @@ class PairDriverNodelet : public nodelet::Nodelet {
   bool onCapture(body_scan_msgs::Capture::Request& request,
                  body_scan_msgs::Capture::Response& response) {
     response.scan_id = request.scan_id;
-    response.success = captureAndPublish(request.scan_id, response.message, request.active_pairs);
+    response.success = captureAndPublish(request.scan_id, response.message, &request.active_pairs);
     response.scan_id = last_scan_id_;
     return true;
   }
@@ -238,18 +235,18 @@ class PairDriverNodelet : public nodelet::Nodelet {
       NODELET_ERROR_THROTTLE(5.0, "[%s] %s", pair_id_.c_str(), message.c_str());
   }
 
-  // active_pairs: the other pairs projecting at the same time (Capture.srv); empty = alone.
+  // active_pairs: the other pairs projecting during this capture (nullptr: this pair alone).
   bool captureAndPublish(uint32_t scan_id, std::string& message,
-                         const std::vector<std::string>& active_pairs = {}) {
+                         const std::vector<std::string>* active_pairs = nullptr) {
     std::lock_guard<std::mutex> lock(capture_mutex_);  // one pattern sequence at a time
     if (!device_) {
       message = "pair not available: " + device_error_;
       return false;
     }
     try {
-      device_->setActivePairs(active_pairs);
+      device_->setActivePairs(active_pairs ? *active_pairs : std::vector<std::string>{});
     } catch (const std::exception& e) {
-      message = std::string("bad active_pairs: ") + e.what();
+      message = std::string("capture refused: ") + e.what();
       return false;
     }
     last_scan_id_ = scan_id != 0 ? scan_id : last_scan_id_ + 1;

@@ -63,16 +63,27 @@ Eigen::Isometry3d cameraPose(const Eigen::Vector3d& position, double yaw, double
 }
 
 VirtualPair::VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> scene)
+    : VirtualPair(std::move(config), std::move(scene), /*with_camera=*/true) {}
+
+VirtualPair VirtualPair::projectorOnly(VirtualPairConfig config,
+                                       std::shared_ptr<const Scene> scene) {
+  return VirtualPair(std::move(config), std::move(scene), /*with_camera=*/false);
+}
+
+VirtualPair::VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> scene,
+                         bool with_camera)
     : config_(std::move(config)),
       scene_(std::move(scene)),
       layout_(config_.bits, config_.inverse_frames) {
   const PinholeCamera& camera = config_.camera;
-  camera_rays_.reserve(static_cast<size_t>(camera.width) * camera.height);
-  for (int v = 0; v < camera.height; ++v)
-    for (int u = 0; u < camera.width; ++u) {
-      const Eigen::Vector2d p = camera.normalizedPoint({u, v});
-      camera_rays_.push_back(Eigen::Vector3d(p.x(), p.y(), 1.0).normalized().cast<float>());
-    }
+  if (with_camera) {
+    camera_rays_.reserve(static_cast<size_t>(camera.width) * camera.height);
+    for (int v = 0; v < camera.height; ++v)
+      for (int u = 0; u < camera.width; ++u) {
+        const Eigen::Vector2d p = camera.normalizedPoint({u, v});
+        camera_rays_.push_back(Eigen::Vector3d(p.x(), p.y(), 1.0).normalized().cast<float>());
+      }
+  }
   const int stripes = layout_.stripeCount();
   sweep_step_ = 1.0 / kSweepSamplesPerStripe;
   const SweptLaserProjector& projector = config_.projector;
@@ -82,6 +93,7 @@ VirtualPair::VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> 
         projector.first_mirror_angle +
         fraction * (projector.last_mirror_angle - projector.first_mirror_angle)));
   }
+  if (!with_camera) return;
   std::mt19937 generator(config_.sensor.seed);
   std::normal_distribution<float> normal(0.f, 1.f);
   noise_.resize(kNoiseTableSize);
@@ -122,6 +134,29 @@ double VirtualPair::trueStripe(const Eigen::Vector3d& point,
   return s;
 }
 
+// Another pair's light at one pixel (interference): its stripe and grey level there.
+struct VirtualPair::ForeignLight {
+  int u;
+  float stripe;
+  float level;
+};
+
+bool VirtualPair::lightAt(const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
+                          const Eigen::Vector3d& point_world, double albedo, float& stripe,
+                          float& level) const {
+  SweptLaserProjector::Plane plane;
+  const double s = trueStripe(point, &plane);
+  if (!std::isfinite(s)) return false;
+  const Eigen::Vector3d to_source = plane.source - point;
+  const double distance = to_source.norm();
+  const double incidence = normal.dot(to_source) / distance;
+  if (incidence <= 0 || scene_->occluded(point_world, config_.world_from_camera * plane.source))
+    return false;
+  stripe = static_cast<float>(s);
+  level = static_cast<float>(config_.sensor.projector_level * albedo * incidence / distance);
+  return true;
+}
+
 // What the camera sees at one pixel, before optics and noise.
 struct VirtualPair::SurfaceSample {
   float stripe = std::numeric_limits<float>::quiet_NaN();
@@ -132,19 +167,9 @@ struct VirtualPair::SurfaceSample {
 
 RenderedPatternSet VirtualPair::render(
     uint32_t scan_id, const std::vector<const VirtualPair*>& also_projecting) const {
-  std::vector<const VirtualPair*> others;
-  for (const VirtualPair* other : also_projecting) {
-    if (other == nullptr || other == this) continue;
-    if (other->scene_ != scene_)
-      throw std::invalid_argument("VirtualPair::render: pair " + other->config_.pair_id +
-                                  " projects into another scene than " + config_.pair_id +
-                                  " (build the rig's pairs on one shared scene)");
-    if (other->layout_.frameCount() != layout_.frameCount())
-      throw std::invalid_argument("VirtualPair::render: pair " + other->config_.pair_id +
-                                  " has another frame count than " + config_.pair_id +
-                                  " (synchronous pairs need the same pattern settings)");
-    others.push_back(other);
-  }
+  if (camera_rays_.empty())
+    throw std::logic_error("VirtualPair::render on a projector-only pair (" + config_.pair_id +
+                           ")");
   const PinholeCamera& camera = config_.camera;
   const SensorModel& sensor = config_.sensor;
   const int rows = camera.height, cols = camera.width;
@@ -158,14 +183,7 @@ RenderedPatternSet VirtualPair::render(
   truth.surface.create(rows, cols);
   truth.skeleton = scene_->skeleton();
   std::vector<SurfaceSample> samples(static_cast<size_t>(rows) * cols);
-  std::vector<Eigen::Isometry3d> other_from_world;
-  for (const VirtualPair* other : others)
-    other_from_world.push_back(other->config_.world_from_camera.inverse());
-  // Light of the other pairs at each pixel: their stripe id (-1 = none) and level.
-  std::vector<std::vector<int16_t>> other_stripe(
-      others.size(), std::vector<int16_t>(others.empty() ? 0 : samples.size(), -1));
-  std::vector<std::vector<float>> other_level(
-      others.size(), std::vector<float>(others.empty() ? 0 : samples.size(), 0.f));
+  std::vector<std::vector<ForeignLight>> foreign(also_projecting.empty() ? 0 : rows);
 
   // Printed patterns: mean albedo and colour of the surface over 4x4 samples of the pixel area.
   // Sample rays come from the pixel's ray and its central differences to the neighbouring
@@ -229,34 +247,17 @@ RenderedPatternSet VirtualPair::render(
         const double facing = std::max(0.0, -normal_camera.dot(ray_camera));
         sample.color = toVec3f(color) * static_cast<float>(255.0 * (0.3 + 0.7 * facing));
 
-        SweptLaserProjector::Plane plane;
-        for (size_t j = 0; j < others.size(); ++j) {
-          // The same lighting model as this pair's own light below, in the other pair's frame.
-          const VirtualPair& other = *others[j];
-          const Eigen::Isometry3d& other_pose = other.config_.world_from_camera;
-          const Eigen::Vector3d point_other = other_from_world[j] * point_world;
-          const double other_stripe_coordinate = other.trueStripe(point_other, &plane);
-          if (!std::isfinite(other_stripe_coordinate)) continue;
-          const Eigen::Vector3d to_source = plane.source - point_other;
-          const double distance = to_source.norm();
-          const double incidence =
-              (other_pose.linear().transpose() * hit.normal).dot(to_source) / distance;
-          if (incidence <= 0 || scene_->occluded(point_world, other_pose * plane.source)) continue;
-          other_stripe[j][index] = static_cast<int16_t>(std::clamp(
-              static_cast<int>(other_stripe_coordinate), 0, other.layout_.stripeCount() - 1));
-          other_level[j][index] = static_cast<float>(other.config_.sensor.projector_level * albedo *
-                                                     incidence / distance);
+        for (const VirtualPair* other : also_projecting) {
+          float stripe, level;
+          const Eigen::Isometry3d& other_pose = other->config_.world_from_camera;
+          if (other != this && other->lightAt(other_pose.inverse() * point_world,
+                                              other_pose.linear().transpose() * hit.normal,
+                                              point_world, albedo, stripe, level))
+            foreign[v].push_back({u, stripe, level});
         }
-        const double stripe = trueStripe(point_camera, &plane);
-        if (!std::isfinite(stripe)) continue;
-        const Eigen::Vector3d to_source = plane.source - point_camera;
-        const double distance = to_source.norm();
-        const double incidence = normal_camera.dot(to_source) / distance;
-        if (incidence <= 0 || scene_->occluded(point_world, pose * plane.source)) continue;
-        // A line laser's irradiance falls as 1/distance; normalized at 1 m.
-        sample.projector_level =
-            static_cast<float>(sensor.projector_level * albedo * incidence / distance);
-        sample.stripe = static_cast<float>(stripe);
+        if (!lightAt(point_camera, normal_camera, point_world, albedo, sample.stripe,
+                     sample.projector_level))
+          continue;
         truth.stripe(v, u) = sample.stripe;
       }
   });
@@ -288,13 +289,6 @@ RenderedPatternSet VirtualPair::render(
   std::vector<std::vector<uint8_t>> lights(frames, std::vector<uint8_t>(stripes));
   for (int f = 0; f < frames; ++f)
     for (int k = 0; k < stripes; ++k) lights[f][k] = layout_.lights(f, k);
-  std::vector<std::vector<std::vector<uint8_t>>> other_lights(others.size());
-  for (size_t j = 0; j < others.size(); ++j) {
-    const PatternLayout& layout = others[j]->layout_;
-    other_lights[j].assign(frames, std::vector<uint8_t>(layout.stripeCount()));
-    for (int f = 0; f < frames; ++f)
-      for (int k = 0; k < layout.stripeCount(); ++k) other_lights[j][f][k] = layout.lights(f, k);
-  }
 
   auto add_noise = [&](const cv::Mat& image, uint64_t stream, cv::Mat& out) {
     size_t offset = mix(mix(sensor.seed) ^ mix(scan_id) ^ stream);
@@ -321,6 +315,8 @@ RenderedPatternSet VirtualPair::render(
       const std::vector<uint8_t>& lit = lights[f];
       for (int v = 0; v < rows; ++v) {
         float* out = image.ptr<float>(v);
+        const ForeignLight* light = foreign.empty() ? nullptr : foreign[v].data();
+        const ForeignLight* lights_end = foreign.empty() ? nullptr : light + foreign[v].size();
         for (int u = 0; u < cols; ++u) {
           const size_t index = static_cast<size_t>(v) * cols + u;
           const SurfaceSample& sample = samples[index];
@@ -340,13 +336,10 @@ RenderedPatternSet VirtualPair::render(
             }
           }
           out[u] = sample.ambient_level + sample.projector_level * coverage;
-        }
-        for (size_t j = 0; j < others.size(); ++j) {  // the other pairs' light, if any
-          const int16_t* other = other_stripe[j].data() + static_cast<size_t>(v) * cols;
-          const float* level = other_level[j].data() + static_cast<size_t>(v) * cols;
-          const std::vector<uint8_t>& other_lit = other_lights[j][f];
-          for (int u = 0; u < cols; ++u)
-            if (other[u] >= 0 && other_lit[other[u]]) out[u] += level[u];
+          // Other pairs' stripes, point-sampled (they only need to corrupt, not to decode).
+          for (; light != lights_end && light->u == u; ++light)
+            out[u] +=
+                light->level * lit[std::clamp(static_cast<int>(light->stripe), 0, stripes - 1)];
         }
       }
       optics(image);

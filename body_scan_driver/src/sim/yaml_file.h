@@ -1,5 +1,4 @@
-// Loading the simulator's YAML files (scenes, pairs, rigs) with one clear error message, and the
-// key readers they share.
+// Loading the simulator's YAML files (scenes, pairs) with one clear error message.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -34,34 +33,6 @@ inline void requireKnownKeys(const YAML::Node& map, const std::vector<std::strin
     for (const std::string& name : accepted) list += (list.empty() ? "" : ", ") + name;
     throw std::runtime_error(where + ": unknown key '" + key + "'; accepted: " + list);
   }
-}
-
-// Reads node[key] into value when present; a wrong type names the key.
-template <typename T>
-void readOptional(const YAML::Node& node, const char* key, T& value, const std::string& where) {
-  if (!node || !node[key]) return;
-  try {
-    value = node[key].as<T>();
-  } catch (const YAML::Exception&) {
-    throw std::runtime_error(where + ": '" + key + "' has the wrong type");
-  }
-}
-
-// As readOptional(), but a missing key is an error naming it.
-template <typename T>
-void readRequired(const YAML::Node& node, const char* key, T& value, const std::string& where) {
-  if (!node || !node[key]) throw std::runtime_error(where + ": missing key '" + key + "'");
-  readOptional(node, key, value, where);
-}
-
-// A fixed-size list of numbers, e.g. [x, y, z]; `shape` names the expected form in the error.
-inline void readList(const YAML::Node& node, const char* key, size_t size,
-                     std::vector<double>& value, const char* shape, const std::string& where) {
-  if (!node || !node[key]) return;
-  std::vector<double> v;
-  readOptional(node, key, v, where);
-  if (v.size() != size) throw std::runtime_error(where + ": '" + key + "' must be " + shape);
-  value = std::move(v);
 }
 
 }  // namespace body_scan::sim

@@ -1,10 +1,11 @@
 // Writes point clouds as binary little-endian PLY (x, y, z float; red, green, blue uchar),
-// readable by MeshLab, CloudCompare and PCL.
+// readable by MeshLab, CloudCompare and PCL, or as binary PCD (x y z rgb, PCL's own format).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace body_scan {
 
@@ -14,6 +15,15 @@ namespace body_scan {
 // number of points written; throws FileWriteError (a std::runtime_error) naming the path on
 // failure.
 size_t writePly(const std::string& path, const float* points, size_t count, size_t stride,
+                int rgb_offset);
+
+// Reads a PLY file as writePly writes it (binary little endian; float x y z, optional uchar
+// red green blue): 4 floats per point, x y z and the packed rgb. Throws std::runtime_error
+// naming the file and what it expected.
+std::vector<float> readPly(const std::string& path);
+
+// The same points as a binary PCD v0.7 file (FIELDS x y z rgb, unorganized), same rules.
+size_t writePcd(const std::string& path, const float* points, size_t count, size_t stride,
                 int rgb_offset);
 
 }  // namespace body_scan

@@ -1,8 +1,10 @@
-// Triangulate: pattern_set -> points (organized PointCloud2 xyz + rgb) + stripe_image.
+// Triangulate: pattern_set -> scan_points (PairCloud: the organized xyz + rgb cloud with its
+// scan id, for Merge), points (the same PointCloud2 for rviz, when subscribed) + stripe_image.
 // Decoding and triangulation are body_scan_driver's core functions; this is the ROS wrapper.
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
+#include <body_scan_msgs/PairCloud.h>
 #include <body_scan_msgs/PatternSet.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
@@ -50,6 +52,7 @@ class TriangulateNodelet : public nodelet::Nodelet {
     min_range_ = pnh.param("min_range", 0.2);
     max_range_ = pnh.param("max_range", 5.0);
     points_pub_ = nh.advertise<sensor_msgs::PointCloud2>("points", 2);
+    scan_points_pub_ = nh.advertise<body_scan_msgs::PairCloud>("scan_points", 2);
     stripe_pub_ = nh.advertise<sensor_msgs::Image>("stripe_image", 2);
     pattern_sub_ = nh.subscribe("pattern_set", 2, &TriangulateNodelet::onPatternSet, this);
     if (calibration_file_.empty())
@@ -97,21 +100,27 @@ class TriangulateNodelet : public nodelet::Nodelet {
       frames.push_back(*frame);
     }
     if (!ensureCalibration(pair)) return;
+    const ros::WallTime start = ros::WallTime::now();
     try {
       if (!decoder_ || decoder_->layout().bits() != set->bits ||
           decoder_->layout().inverseFrames() != set->inverse_frames)
         decoder_ =
             std::make_unique<StripeDecoder>(PatternLayout(set->bits, set->inverse_frames), params_);
       decoder_->decode(frames, stripes_);
-      publish(*set, frames[0].size());
+      publish(*set, frames[0].size(), start);
     } catch (const std::exception& e) {
       NODELET_ERROR_THROTTLE(5.0, "[%s] scan %u not triangulated: %s", pair.c_str(), set->scan_id,
                              e.what());
     }
   }
 
-  void publish(const body_scan_msgs::PatternSet& set, const cv::Size& size) {
-    sensor_msgs::PointCloud2Ptr cloud(new sensor_msgs::PointCloud2);
+  void publish(const body_scan_msgs::PatternSet& set, const cv::Size& size,
+               const ros::WallTime& start) {
+    body_scan_msgs::PairCloudPtr pair_cloud(new body_scan_msgs::PairCloud);
+    pair_cloud->header = set.header;
+    pair_cloud->pair_id = set.pair_id;
+    pair_cloud->scan_id = set.scan_id;
+    sensor_msgs::PointCloud2* cloud = &pair_cloud->cloud;
     cloud->header = set.header;
     cloud->height = size.height;
     cloud->width = size.width;
@@ -149,7 +158,11 @@ class TriangulateNodelet : public nodelet::Nodelet {
         const cv::Vec3b c = coloured ? texture->at<cv::Vec3b>(v, u) : cv::Vec3b(255, 255, 255);
         points[4 * (static_cast<size_t>(v) * size.width + u) + 3] = packRgb(c[0], c[1], c[2]);
       }
-    points_pub_.publish(cloud);
+    pair_cloud->processing_seconds = (ros::WallTime::now() - start).toSec();
+    // Shared pointers: no copy to subscribers in this manager; rviz's copy only when watched.
+    if (points_pub_.getNumSubscribers() > 0)
+      points_pub_.publish(sensor_msgs::PointCloud2Ptr(new sensor_msgs::PointCloud2(*cloud)));
+    scan_points_pub_.publish(pair_cloud);
     NODELET_DEBUG("[%s] scan %u: %zu points", set.pair_id.c_str(), set.scan_id, valid);
 
     if (stripe_pub_.getNumSubscribers() > 0) {
@@ -171,7 +184,7 @@ class TriangulateNodelet : public nodelet::Nodelet {
   std::unique_ptr<Triangulator> triangulator_;
   std::unique_ptr<StripeDecoder> decoder_;
   StripeImage stripes_;
-  ros::Publisher points_pub_, stripe_pub_;
+  ros::Publisher points_pub_, scan_points_pub_, stripe_pub_;
   ros::Subscriber pattern_sub_;
 };
 

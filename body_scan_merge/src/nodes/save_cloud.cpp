@@ -1,5 +1,6 @@
-// Saves the next PointCloud2 on a topic to a PLY file and exits (used by make demo).
-//   rosrun body_scan_merge save_cloud _topic:=/pole_a/pair_1/points _output:=cloud.ply
+// Saves the next PointCloud2 on a topic to a PLY file (and a PCD file) and exits (make demo).
+//   rosrun body_scan_merge save_cloud _topic:=/body_scan/cloud _output:=cloud.ply
+//       [_pcd_output:=cloud.pcd]
 #include <body_scan_merge/ply_writer.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -9,6 +10,7 @@ int main(int argc, char** argv) {
   ros::NodeHandle pnh("~");
   const std::string topic = pnh.param<std::string>("topic", "/pole_a/pair_1/points");
   const std::string output = pnh.param<std::string>("output", "cloud.ply");
+  const std::string pcd_output = pnh.param<std::string>("pcd_output", "");
   const double timeout = pnh.param("timeout", 30.0);
   const auto cloud =
       ros::topic::waitForMessage<sensor_msgs::PointCloud2>(topic, ros::Duration(timeout));
@@ -28,11 +30,16 @@ int main(int argc, char** argv) {
     return 1;
   }
   try {
-    const size_t written = body_scan::writePly(
-        output, reinterpret_cast<const float*>(cloud->data.data()),
-        static_cast<size_t>(cloud->width) * cloud->height, cloud->point_step / 4, rgb_offset);
+    const auto* points = reinterpret_cast<const float*>(cloud->data.data());
+    const size_t count = static_cast<size_t>(cloud->width) * cloud->height;
+    const size_t written =
+        body_scan::writePly(output, points, count, cloud->point_step / 4, rgb_offset);
     std::printf("%zu points (frame %s) written to %s\n", written, cloud->header.frame_id.c_str(),
                 output.c_str());
+    if (!pcd_output.empty()) {
+      body_scan::writePcd(pcd_output, points, count, cloud->point_step / 4, rgb_offset);
+      std::printf("and to %s\n", pcd_output.c_str());
+    }
   } catch (const std::exception& e) {
     ROS_ERROR("%s", e.what());
     return 1;

@@ -88,14 +88,15 @@ struct RenderedPatternSet {
 class VirtualPair {
  public:
   VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> scene);
+  // A pair used only as another pair's interference source (render's also_projecting): it
+  // skips the camera's ray and noise tables (about 8 MB), so it must not render itself.
+  static VirtualPair projectorOnly(VirtualPairConfig config, std::shared_ptr<const Scene> scene);
 
-  // Deterministic for a given config, scene, scan id and set of other pairs.
-  // also_projecting: other pairs projecting at the same moment (thesis 4.3, Fig. 4.7: all pairs
-  // run the same frame sequence synchronously). Their light adds to this pair's frames where it
-  // reaches the surface this camera sees (their stripe in their own frame via their world pose,
-  // inside their fan, facing them, unoccluded, 1/distance falloff, albedo). Ground truth stays
-  // this pair's own stripe. They must share this pair's scene and frame count; this pair itself
-  // in the list is ignored. Empty: the pair alone (bit-identical to before interference).
+  // Deterministic for a given config, scene, scan id and set of other pairs. also_projecting:
+  // pairs of the same rig projecting their sequences at the same moment (thesis 4.3,
+  // Fig 4.7): wherever their light falls on a surface this camera sees, it adds to this pair's
+  // frames (interference). Their poses are their world_from_camera; they must render the same
+  // scene. The ground truth stays this pair's own light.
   RenderedPatternSet render(uint32_t scan_id = 0,
                             const std::vector<const VirtualPair*>& also_projecting = {}) const;
   // The true geometry in the calibration model: intrinsics + the plane at each stripe centre.
@@ -106,7 +107,18 @@ class VirtualPair {
 
  private:
   struct SurfaceSample;
+  struct ForeignLight;
+  // Light of this pair's projector at a surface point (in this pair's camera frame, and in the
+  // world for the shadow test) with outward normal (camera frame): the stripe coordinate and
+  // the grey level it adds, or false where it does not reach (outside the
+  // sweep or fan, facing away, shadowed). level: the grey level it adds on a surface of that
+  // albedo (a line laser's irradiance falls as 1/distance; normalized at 1 m).
+  bool lightAt(const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
+               const Eigen::Vector3d& point_world, double albedo, float& stripe,
+               float& level) const;
   double trueStripe(const Eigen::Vector3d& point_camera, SweptLaserProjector::Plane* plane) const;
+
+  VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> scene, bool with_camera);
 
   VirtualPairConfig config_;
   std::shared_ptr<const Scene> scene_;

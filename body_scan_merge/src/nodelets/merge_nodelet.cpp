@@ -1,0 +1,217 @@
+// Merge: the pair clouds of one scan id (/<pair>/scan_points) -> /body_scan/cloud (world frame,
+// cropped to the scan volume, optional voxel grid and outlier removal) + /body_scan/scan_report.
+// A pair that never answers is reported after ~timeout and the scan is assembled without it.
+#include <body_scan_merge/cloud_merge.h>
+#include <body_scan_merge/scan_assembler.h>
+#include <body_scan_msgs/PairCloud.h>
+#include <body_scan_msgs/ScanReport.h>
+#include <body_scan_msgs/TimingGroups.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <algorithm>
+#include <memory>
+#include <mutex>
+#include <pluginlib/class_list_macros.hpp>
+
+namespace body_scan {
+
+class MergeNodelet : public nodelet::Nodelet {
+ private:
+  using Part = body_scan_msgs::PairCloudConstPtr;
+
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    std::vector<std::string> pairs;
+    if (!pnh.getParam("pairs", pairs) || pairs.empty()) {
+      for (const char* pole : {"pole_a", "pole_b", "pole_c"})
+        for (int i = 1; i <= 4; ++i)
+          pairs.push_back(std::string(pole) + "/pair_" + std::to_string(i));
+      NODELET_INFO("~pairs not set: expecting the 12 pairs of the thesis rig");
+    }
+    world_frame_ = pnh.param<std::string>("world_frame", "world");
+    const double timeout = pnh.param("timeout", 60.0);
+    options_.crop_radius = pnh.param("crop_radius", options_.crop_radius);
+    options_.crop_min_z = pnh.param("crop_min_z", options_.crop_min_z);
+    options_.crop_max_z = pnh.param("crop_max_z", options_.crop_max_z);
+    options_.voxel_leaf = pnh.param("voxel_leaf", options_.voxel_leaf);
+    options_.outlier_removal = pnh.param("outlier_removal", options_.outlier_removal);
+    options_.outlier_neighbours = pnh.param("outlier_neighbours", options_.outlier_neighbours);
+    options_.outlier_std_ratio = pnh.param("outlier_std_ratio", options_.outlier_std_ratio);
+    assembler_ = std::make_unique<ScanAssembler<Part>>(pairs, timeout);
+
+    tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
+    cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>("cloud", 2);
+    report_pub_ = nh.advertise<body_scan_msgs::ScanReport>("scan_report", 10);
+    // The pairs live next to this node's namespace (/body_scan -> /pole_a/pair_1/scan_points;
+    // under a replay prefix /replay/body_scan -> /replay/pole_a/pair_1/scan_points).
+    const std::string root = ros::names::parentNamespace(nh.getNamespace());
+    for (const std::string& pair : pairs)
+      subscribers_.push_back(
+          nh.subscribe<body_scan_msgs::PairCloud>(ros::names::append(root, pair + "/scan_points"),
+                                                  2, [this](const Part& part) { onPart(part); }));
+    groups_sub_ = nh.subscribe<body_scan_msgs::TimingGroups>(
+        "timing_groups", 1, [this](const body_scan_msgs::TimingGroupsConstPtr& groups) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          groups_ = groups;
+        });
+    timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
+      std::vector<ScanAssembler<Part>::Scan> done;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        assembler_->poll(ros::WallTime::now().toSec(), done);
+      }
+      for (auto& scan : done) publish(scan);
+    });
+    NODELET_INFO(
+        "merging scans of %zu pairs into %s (frame %s), pair timeout %.1f s, voxel %.4f m%s",
+        pairs.size(), cloud_pub_.getTopic().c_str(), world_frame_.c_str(), timeout,
+        options_.voxel_leaf, options_.outlier_removal ? ", outlier removal" : "");
+  }
+
+  void onPart(const Part& part) {
+    std::vector<ScanAssembler<Part>::Scan> done;
+    ScanAssembler<Part>::Arrival arrival;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      arrival =
+          assembler_->add(part->pair_id, part->scan_id, part, ros::WallTime::now().toSec(), done);
+    }
+    if (arrival == ScanAssembler<Part>::Arrival::kLate)
+      NODELET_WARN("[%s] cloud of scan %u arrived after the scan was published (raise ~timeout)",
+                   part->pair_id.c_str(), part->scan_id);
+    else if (arrival == ScanAssembler<Part>::Arrival::kUnknownPair)
+      NODELET_WARN_THROTTLE(10.0, "cloud from '%s', which is not in ~pairs: ignored",
+                            part->pair_id.c_str());
+    else if (arrival == ScanAssembler<Part>::Arrival::kRepeated)
+      NODELET_WARN("[%s] second cloud for scan %u: ignored", part->pair_id.c_str(), part->scan_id);
+    for (auto& scan : done) publish(scan);
+  }
+
+  void publish(const ScanAssembler<Part>::Scan& scan) {
+    const ros::WallTime start = ros::WallTime::now();
+    body_scan_msgs::ScanReportPtr report(new body_scan_msgs::ScanReport);
+    report->scan_id = scan.scan_id;
+    report->pairs_expected = assembler_->expectedPairs();
+    report->pairs_missing = scan.missing;
+    std::vector<CloudView> views;
+    double slowest_pair = 0;
+    ros::Time stamp;
+    for (const auto& [pair_id, part] : scan.parts) {
+      const sensor_msgs::PointCloud2& cloud = part->cloud;
+      CloudView view;
+      try {
+        const auto t = tf_buffer_
+                           ->lookupTransform(world_frame_, cloud.header.frame_id, ros::Time(0),
+                                             ros::Duration(0.5))
+                           .transform;
+        view.world_from_cloud =
+            Eigen::Translation3d(t.translation.x, t.translation.y, t.translation.z) *
+            Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z);
+      } catch (const tf2::TransformException& e) {
+        NODELET_ERROR_THROTTLE(5.0,
+                               "[%s] no transform %s -> %s (%s): left out of scan %u. Start the "
+                               "drivers with their factory tf or the world_alignment_publisher",
+                               pair_id.c_str(), world_frame_.c_str(), cloud.header.frame_id.c_str(),
+                               e.what(), scan.scan_id);
+        report->pairs_missing.push_back(pair_id);
+        continue;
+      }
+      if (cloud.point_step % 4 != 0 || cloud.fields.size() < 3 || cloud.fields[0].offset != 0 ||
+          cloud.data.size() < static_cast<size_t>(cloud.point_step) * cloud.width * cloud.height) {
+        NODELET_ERROR_THROTTLE(5.0, "[%s] cloud layout is not float x y z [rgb]: left out",
+                               pair_id.c_str());
+        report->pairs_missing.push_back(pair_id);
+        continue;
+      }
+      view.points = reinterpret_cast<const float*>(cloud.data.data());
+      view.count = static_cast<size_t>(cloud.width) * cloud.height;
+      view.stride = cloud.point_step / 4;
+      view.rgb_offset = -1;
+      for (const auto& field : cloud.fields)
+        if (field.name == "rgb") view.rgb_offset = static_cast<int>(field.offset / 4);
+      views.push_back(view);
+      report->pairs_present.push_back(pair_id);
+      slowest_pair = std::max(slowest_pair, part->processing_seconds);
+      stamp = std::max(stamp, part->header.stamp);
+    }
+    const MergedCloud merged = mergeClouds(views, options_);
+    for (size_t count : merged.valid_per_part)
+      report->points_per_pair.push_back(static_cast<uint32_t>(count));
+
+    sensor_msgs::PointCloud2Ptr cloud(new sensor_msgs::PointCloud2);
+    cloud->header.stamp = stamp.isZero() ? ros::Time::now() : stamp;
+    cloud->header.frame_id = world_frame_;
+    cloud->height = 1;
+    cloud->width = static_cast<uint32_t>(merged.size());
+    const char* names[] = {"x", "y", "z", "rgb"};
+    for (uint32_t i = 0; i < 4; ++i) {
+      sensor_msgs::PointField field;
+      field.name = names[i];
+      field.offset = 4 * i;
+      field.datatype = sensor_msgs::PointField::FLOAT32;
+      field.count = 1;
+      cloud->fields.push_back(field);
+    }
+    cloud->point_step = 16;
+    cloud->row_step = cloud->point_step * cloud->width;
+    cloud->is_dense = true;
+    const auto* bytes = reinterpret_cast<const uint8_t*>(merged.xyzrgb.data());
+    cloud->data.assign(bytes, bytes + merged.xyzrgb.size() * sizeof(float));
+
+    report->header = cloud->header;
+    report->points_merged = cloud->width;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (groups_) {
+        report->timing_groups = static_cast<uint32_t>(groups_->groups.size());
+        report->simulated_capture_seconds = groups_->groups.size() * groups_->group_seconds;
+      }
+    }
+    report->stage_names.push_back("decode+triangulate (slowest pair)");
+    report->stage_seconds.push_back(slowest_pair);
+    for (const auto& [name, seconds] : merged.stage_seconds) {
+      report->stage_names.push_back(name);
+      report->stage_seconds.push_back(seconds);
+    }
+    report->stage_names.push_back("merge total");
+    report->stage_seconds.push_back((ros::WallTime::now() - start).toSec());
+    std::sort(report->pairs_missing.begin(), report->pairs_missing.end());
+    report->message = "scan " + std::to_string(scan.scan_id) + ": " +
+                      std::to_string(report->points_merged) + " points from " +
+                      std::to_string(report->pairs_present.size()) + "/" +
+                      std::to_string(report->pairs_expected.size()) + " pairs";
+    if (!report->pairs_missing.empty()) {
+      report->message += "; missing:";
+      for (const std::string& id : report->pairs_missing) report->message += " " + id;
+    }
+    cloud_pub_.publish(cloud);
+    report_pub_.publish(report);
+    if (report->pairs_missing.empty())
+      NODELET_INFO("%s, merged in %.0f ms", report->message.c_str(),
+                   1000 * report->stage_seconds.back());
+    else
+      NODELET_WARN("%s", report->message.c_str());
+  }
+
+  std::string world_frame_;
+  MergeOptions options_;
+  std::mutex mutex_;
+  std::unique_ptr<ScanAssembler<Part>> assembler_;
+  body_scan_msgs::TimingGroupsConstPtr groups_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  ros::Publisher cloud_pub_, report_pub_;
+  std::vector<ros::Subscriber> subscribers_;
+  ros::Subscriber groups_sub_;
+  ros::WallTimer timer_;
+};
+
+}  // namespace body_scan
+
+PLUGINLIB_EXPORT_CLASS(body_scan::MergeNodelet, nodelet::Nodelet)

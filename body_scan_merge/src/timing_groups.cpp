@@ -1,0 +1,213 @@
+#include <body_scan_merge/timing_groups.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+
+namespace body_scan {
+namespace {
+
+struct SurfacePoint {
+  Eigen::Vector3d position, normal;  // world
+  int part = -1;                     // proxy part it lies on (-1: the floor)
+};
+
+// True if the segment from a to b crosses the side of the part (a vertical elliptic cylinder).
+bool crosses(const ProxyCylinder& part, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double px = (a.x() - part.center_x) / part.semi_axis_x;
+  const double py = (a.y() - part.center_y) / part.semi_axis_y;
+  const double dx = (b.x() - a.x()) / part.semi_axis_x, dy = (b.y() - a.y()) / part.semi_axis_y;
+  const double qa = dx * dx + dy * dy, qb = 2 * (px * dx + py * dy), qc = px * px + py * py - 1;
+  const double discriminant = qb * qb - 4 * qa * qc;
+  if (qa <= 0 || discriminant < 0) return false;
+  for (double sign : {-1.0, 1.0}) {
+    const double t = (-qb + sign * std::sqrt(discriminant)) / (2 * qa);
+    const double z = a.z() + t * (b.z() - a.z());
+    if (t > 1e-6 && t < 1 && z >= part.min_z && z <= part.max_z) return true;
+  }
+  return false;
+}
+
+// True if another part of the proxy lies between the sample and `to` (a source or camera).
+bool shadowed(const InterferenceProxy& proxy, const SurfacePoint& point,
+              const Eigen::Vector3d& to) {
+  for (size_t i = 0; i < proxy.parts.size(); ++i)
+    if (static_cast<int>(i) != point.part && crosses(proxy.parts[i], point.position, to))
+      return true;
+  return false;
+}
+
+std::vector<SurfacePoint> sampleProxy(const InterferenceProxy& proxy) {
+  std::vector<SurfacePoint> samples;
+  for (const ProxyCylinder& part : proxy.parts) {
+    const double a = part.semi_axis_x, b = part.semi_axis_y;
+    // Ramanujan's perimeter of the ellipse, for an even spacing around it.
+    const double perimeter = M_PI * (3 * (a + b) - std::sqrt((3 * a + b) * (a + 3 * b)));
+    const int around = std::max(8, static_cast<int>(perimeter / proxy.spacing));
+    for (double z = part.min_z; z <= part.max_z; z += proxy.spacing)
+      for (int k = 0; k < around; ++k) {
+        const double t = 2 * M_PI * k / around;
+        samples.push_back({{part.center_x + a * std::cos(t), part.center_y + b * std::sin(t), z},
+                           Eigen::Vector3d(std::cos(t) / a, std::sin(t) / b, 0).normalized(),
+                           static_cast<int>(&part - proxy.parts.data())});
+      }
+  }
+  // The floor, more coarsely (a larger area; its overlaps are large too).
+  const double floor_step = 2 * proxy.spacing;
+  for (double x = -proxy.floor_radius; x <= proxy.floor_radius; x += floor_step)
+    for (double y = -proxy.floor_radius; y <= proxy.floor_radius; y += floor_step)
+      if (std::hypot(x, y) <= proxy.floor_radius)
+        samples.push_back({{x, y, 0}, Eigen::Vector3d::UnitZ(), -1});
+  return samples;
+}
+
+// Where the projector's light leaves: the point closest (least squares) to all its planes.
+Eigen::Vector3d projectorSource(const StripePlaneProjector& projector) {
+  Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  int used = 0;
+  for (const Eigen::Vector4d& plane : projector.planes) {
+    if (!plane.allFinite()) continue;  // never-observed stripes
+    const Eigen::Vector3d n = plane.head<3>();
+    const double scale = n.norm();
+    normal_matrix += n * n.transpose() / (scale * scale);
+    rhs += -plane[3] * n / (scale * scale);
+    ++used;
+  }
+  if (used < 3) throw std::invalid_argument("a projector needs at least 3 calibrated planes");
+  // The planes nearly share a line (the mirror axis), along which the least-squares point is
+  // undetermined: a weak pull toward the camera centre picks the point of that line beside it.
+  normal_matrix += 0.01 * used * Eigen::Matrix3d::Identity();
+  return normal_matrix.ldlt().solve(rhs);
+}
+
+struct PairView {
+  Eigen::Isometry3d camera_from_world;
+  Eigen::Vector3d camera_position;  // world
+  Eigen::Vector3d source_world;
+  Eigen::Vector4d first_plane, last_plane;  // camera frame, finite
+  PinholeCamera camera;
+};
+
+PairView pairView(const PairGeometry& pair) {
+  PairView view;
+  view.camera_from_world = pair.world_from_camera.inverse();
+  view.camera_position = pair.world_from_camera.translation();
+  view.source_world = pair.world_from_camera * projectorSource(pair.calibration.projector);
+  const auto& planes = pair.calibration.projector.planes;
+  auto first = std::find_if(planes.begin(), planes.end(), [](auto& p) { return p.allFinite(); });
+  auto last = std::find_if(planes.rbegin(), planes.rend(), [](auto& p) { return p.allFinite(); });
+  view.first_plane = *first;
+  view.last_plane = *last;
+  view.camera = pair.calibration.camera;
+  return view;
+}
+
+bool lit(const PairView& view, const SurfacePoint& point) {
+  if (point.normal.dot(view.source_world - point.position) <= 0) return false;  // faces away
+  const Eigen::Vector3d p = view.camera_from_world * point.position;
+  if (p.z() <= 0) return false;  // behind the pair
+  const double first = view.first_plane.head<3>().dot(p) + view.first_plane[3];
+  const double last = view.last_plane.head<3>().dot(p) + view.last_plane[3];
+  return first * last <= 0;  // between the first and the last stripe plane
+}
+
+bool seen(const PairView& view, const SurfacePoint& point, double margin) {
+  if (point.normal.dot(view.camera_position - point.position) <= 0) return false;
+  const Eigen::Vector3d p = view.camera_from_world * point.position;
+  if (p.z() <= 0.05) return false;
+  const Eigen::Vector2d pixel = view.camera.distortedPixel(p.head<2>() / p.z());
+  return pixel.x() >= -margin && pixel.y() >= -margin && pixel.x() < view.camera.width + margin &&
+         pixel.y() < view.camera.height + margin;
+}
+
+}  // namespace
+
+std::vector<std::vector<bool>> lightConflicts(const std::vector<PairGeometry>& pairs,
+                                              const InterferenceProxy& proxy) {
+  const std::vector<SurfacePoint> samples = sampleProxy(proxy);
+  std::vector<PairView> views;
+  for (const PairGeometry& pair : pairs) views.push_back(pairView(pair));
+  const size_t n = pairs.size();
+  std::vector<std::vector<bool>> conflicts(n, std::vector<bool>(n, false));
+  std::vector<std::vector<bool>> lit_by(n), seen_by(n);
+  for (size_t i = 0; i < n; ++i) {
+    lit_by[i].resize(samples.size());
+    seen_by[i].resize(samples.size());
+    for (size_t k = 0; k < samples.size(); ++k) {
+      lit_by[i][k] =
+          lit(views[i], samples[k]) && !shadowed(proxy, samples[k], views[i].source_world);
+      seen_by[i][k] = seen(views[i], samples[k], proxy.image_margin) &&
+                      !shadowed(proxy, samples[k], views[i].camera_position);
+    }
+  }
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j < n; ++j) {
+      if (i == j) continue;
+      size_t shared = 0;
+      for (size_t k = 0; k < samples.size(); ++k) shared += lit_by[i][k] && seen_by[j][k];
+      conflicts[i][j] = shared * proxy.spacing * proxy.spacing > proxy.min_overlap_area;
+    }
+  return conflicts;
+}
+
+std::vector<std::vector<int>> minimumGroups(const std::vector<std::vector<bool>>& conflicts) {
+  const int n = static_cast<int>(conflicts.size());
+  if (n == 0) return {};
+  auto adjacent = [&](int a, int b) { return conflicts[a][b] || conflicts[b][a]; };
+  // Colour the most constrained pairs first (degree order, ties by index): exact backtracking
+  // with k colours for k = 1, 2, ... (12 pairs: instant).
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  std::vector<int> degree(n, 0);
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) degree[a] += a != b && adjacent(a, b);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return degree[a] > degree[b]; });
+  std::vector<int> colour(n, -1);
+  std::function<bool(int, int, int)> assign = [&](int position, int k, int used) {
+    if (position == n) return true;
+    const int pair = order[position];
+    // A new colour only as the next unused one (symmetry breaking).
+    for (int c = 0; c < std::min(k, used + 1); ++c) {
+      bool free = true;
+      for (int other = 0; other < n && free; ++other)
+        free = !(colour[other] == c && adjacent(pair, other));
+      if (!free) continue;
+      colour[pair] = c;
+      if (assign(position + 1, k, std::max(used, c + 1))) return true;
+      colour[pair] = -1;
+    }
+    return false;
+  };
+  int k = 1;
+  while (!assign(0, k, 0)) ++k;
+  // Groups ordered by their first pair; pairs in input order within a group.
+  std::vector<std::vector<int>> groups;
+  std::vector<int> group_of_colour(k, -1);
+  for (int pair = 0; pair < n; ++pair) {
+    int& group = group_of_colour[colour[pair]];
+    if (group < 0) {
+      group = static_cast<int>(groups.size());
+      groups.emplace_back();
+    }
+    groups[group].push_back(pair);
+  }
+  return groups;
+}
+
+TimingPlan planTimingGroups(const std::vector<PairGeometry>& pairs,
+                            const InterferenceProxy& proxy) {
+  const auto conflicts = lightConflicts(pairs, proxy);
+  TimingPlan plan;
+  for (const auto& group : minimumGroups(conflicts)) {
+    plan.groups.emplace_back();
+    for (int index : group) plan.groups.back().push_back(pairs[index].pair_id);
+  }
+  for (size_t i = 0; i < pairs.size(); ++i)
+    for (size_t j = 0; j < pairs.size(); ++j)
+      if (conflicts[i][j]) plan.conflicts.emplace_back(pairs[i].pair_id, pairs[j].pair_id);
+  return plan;
+}
+
+}  // namespace body_scan

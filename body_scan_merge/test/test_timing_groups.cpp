@@ -1,0 +1,155 @@
+// Timing groups (thesis 4.3, Fig 4.7): conflicts from the calibrated geometry, a minimum
+// colouring, and - measured with the simulator - that the computed groups do not corrupt any
+// pair's decoding while all 12 pairs at once do.
+#include <body_scan_driver/sim/rig.h>
+#include <body_scan_driver/stripe_decoder.h>
+#include <body_scan_merge/timing_groups.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace body_scan;
+
+namespace {
+
+const std::string kDriverConfig = BODY_SCAN_DRIVER_CONFIG_DIR;
+
+std::vector<PairGeometry> geometryOf(const std::vector<sim::VirtualPairConfig>& configs) {
+  auto empty = std::make_shared<sim::Scene>();
+  std::vector<PairGeometry> pairs;
+  for (const auto& config : configs)
+    pairs.push_back({config.pair_id,
+                     sim::VirtualPair::projectorOnly(config, empty).factoryCalibration(),
+                     config.world_from_camera});
+  return pairs;
+}
+
+sim::VirtualPairConfig pairAt(const std::string& id, const Eigen::Vector3d& position) {
+  sim::VirtualPairConfig config;
+  config.pair_id = id;
+  config.world_from_camera =
+      sim::cameraPose(position, std::atan2(-position.y(), -position.x()), 0.0);
+  return config;
+}
+
+int chromaticNumberByBruteForce(const std::vector<std::vector<bool>>& graph) {
+  const int n = static_cast<int>(graph.size());
+  for (int k = 1; k <= n; ++k) {
+    std::vector<int> colour(n, 0);
+    while (true) {
+      bool ok = true;
+      for (int a = 0; a < n && ok; ++a)
+        for (int b = a + 1; b < n && ok; ++b)
+          ok = !((graph[a][b] || graph[b][a]) && colour[a] == colour[b]);
+      if (ok) return k;
+      int i = 0;
+      while (i < n && ++colour[i] == k) colour[i++] = 0;
+      if (i == n) break;
+    }
+  }
+  return n;
+}
+
+}  // namespace
+
+TEST(TimingGroups, PairsFacingEachOtherDoNotConflictPairsSideBySideDo) {
+  const auto pairs = geometryOf({pairAt("front", {1.0, 0, 1.2}), pairAt("back", {-1.0, 0, 1.2}),
+                                 pairAt("front_left", {0.97, 0.26, 1.2})});
+  InterferenceProxy torso;  // one convex surface: no gaps for grazing light
+  torso.parts = {{0, 0, 0.15, 0.2, 0.6, 1.8}};
+  const auto conflicts = lightConflicts(pairs, torso);
+  EXPECT_FALSE(conflicts[0][1]);
+  EXPECT_FALSE(conflicts[1][0]);
+  EXPECT_TRUE(conflicts[0][2]);
+  EXPECT_TRUE(conflicts[2][0]);
+  const TimingPlan plan = planTimingGroups(pairs, torso);
+  ASSERT_EQ(plan.groups.size(), 2u);
+  EXPECT_EQ(plan.groups[0], (std::vector<std::string>{"front", "back"}));
+}
+
+TEST(TimingGroups, TheColouringIsMinimal) {
+  std::mt19937 generator(5);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int n = 3 + trial % 6;
+    std::bernoulli_distribution edge(0.2 + 0.01 * trial);
+    std::vector<std::vector<bool>> graph(n, std::vector<bool>(n, false));
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) graph[a][b] = a != b && edge(generator);
+    const auto groups = minimumGroups(graph);
+    ASSERT_EQ(static_cast<int>(groups.size()), chromaticNumberByBruteForce(graph)) << trial;
+    for (const auto& group : groups)
+      for (int a : group)
+        for (int b : group) ASSERT_FALSE(graph[a][b]) << "conflicting pairs share a group";
+  }
+}
+
+// The default rig with the default subject: the computed groups keep every pair's decoding as
+// clean as when it projects alone; all 12 pairs at once corrupt it.
+TEST(TimingGroups, TheComputedGroupsOfTheDefaultRigDoNotInterfere) {
+  const sim::Rig rig = sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
+  const TimingPlan plan = planTimingGroups(geometryOf(rig.pairs));
+  std::cout << "[ figure ] default rig: " << plan.groups.size() << " timing groups (thesis: 4),"
+            << " simulated acquisition " << 0.5 * plan.groups.size() << " s:";
+  for (const auto& group : plan.groups) {
+    std::cout << " {";
+    for (const auto& id : group) std::cout << " " << id;
+    std::cout << " }";
+  }
+  std::cout << "\n";
+  // The three poles light each other's views at every height: at least 3 groups; fewer than
+  // one group per pair.
+  EXPECT_GE(plan.groups.size(), 3u);
+  EXPECT_LT(plan.groups.size(), rig.pairs.size());
+
+  auto scene =
+      std::make_shared<sim::Scene>(sim::loadScene(kDriverConfig + "/scenes/standing_person.yaml"));
+  std::vector<sim::VirtualPair> projectors;
+  for (const auto& config : rig.pairs)
+    projectors.push_back(sim::VirtualPair::projectorOnly(config, scene));
+  auto projector = [&](const std::string& id) {
+    for (const auto& p : projectors)
+      if (p.config().pair_id == id) return &p;
+    throw std::logic_error(id);
+  };
+  std::vector<const sim::VirtualPair*> everyone;
+  for (const auto& p : projectors) everyone.push_back(&p);
+
+  // Fraction of the person's lit pixels decoded more than one stripe off the truth.
+  auto wrong = [&](const sim::VirtualPair& pair,
+                   const std::vector<const sim::VirtualPair*>& others) {
+    const sim::RenderedPatternSet set = pair.render(1, others);
+    StripeImage decoded;
+    StripeDecoder(pair.layout()).decode(set.frames, decoded);
+    int lit = 0, bad = 0;
+    for (int v = 0; v < decoded.coordinate.rows; ++v)
+      for (int u = 0; u < decoded.coordinate.cols; ++u) {
+        const int surface = set.truth.surface(v, u);
+        const float truth = set.truth.stripe(v, u);
+        if (surface < 0 || std::isnan(truth) ||
+            scene->surfaces()[surface]->name.rfind("person/", 0) != 0)
+          continue;
+        ++lit;
+        const float got = decoded.coordinate(v, u);
+        bad += !std::isnan(got) && std::abs(got - truth) > 1.f;
+      }
+    return lit ? static_cast<double>(bad) / lit : 0.0;
+  };
+  double worst_grouped = 0, worst_alone = 0, worst_all = 0;
+  for (const auto& group : plan.groups)
+    for (const auto& id : group) {
+      const sim::VirtualPair pair(rig.pair(id), scene);
+      std::vector<const sim::VirtualPair*> members;
+      for (const auto& other : group) members.push_back(projector(other));
+      const double grouped = wrong(pair, members), alone = wrong(pair, {});
+      worst_grouped = std::max(worst_grouped, grouped);
+      worst_alone = std::max(worst_alone, alone);
+      EXPECT_LE(grouped, alone + 0.0002) << id << " is disturbed by its group";
+      if (id == "pole_a/pair_2" || id == "pole_b/pair_3")
+        worst_all = std::max(worst_all, wrong(pair, everyone));
+    }
+  std::cout << "[ figure ] wrong stripes on the person, worst pair: alone " << 100 * worst_alone
+            << " %, in its timing group " << 100 * worst_grouped << " %, all 12 at once "
+            << 100 * worst_all << " %\n";
+  EXPECT_GT(worst_all, 0.05);
+}
