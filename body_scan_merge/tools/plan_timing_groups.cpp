@@ -25,6 +25,8 @@ a group, with as few groups as possible (an exact minimum colouring of the confl
   --rig FILE              rig file: the pair ids and, for files without a world_alignment
                           section, the pair poses (required)
   --group-seconds T       acquisition time of one group (default 0.5, thesis sec. 4.2.4)
+  --light-margin M        grow each sweep M metres beyond its first and last calibrated
+                          stripe planes (default 0.02)
   --min-overlap-area A    m^2 of lit-and-seen proxy surface tolerated (default 0)
   --report FILE           also write the plan as YAML (atomically)
 )";
@@ -60,6 +62,8 @@ int main(int argc, char** argv) {
       report = value();
     else if (arg == "--group-seconds")
       group_seconds = std::atof(value().c_str());
+    else if (arg == "--light-margin")
+      proxy.light_margin = std::atof(value().c_str());
     else if (arg == "--min-overlap-area")
       proxy.min_overlap_area = std::atof(value().c_str());
     else if (arg == "--help" || arg == "-h") {

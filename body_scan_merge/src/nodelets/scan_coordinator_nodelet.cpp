@@ -49,6 +49,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     proxy_.spacing = pnh.param("proxy_spacing", proxy_.spacing);
     proxy_.image_margin = pnh.param("image_margin", proxy_.image_margin);
     proxy_.min_overlap_area = pnh.param("min_overlap_area", proxy_.min_overlap_area);
+    proxy_.light_margin = pnh.param("light_margin", proxy_.light_margin);
     proxy_.floor = pnh.param("proxy_floor", proxy_.floor);
     if (proxy_.spacing <= 0.001 || proxy_.spacing > 0.2) {
       NODELET_ERROR("~proxy_spacing %.4f m is out of range (0.001 .. 0.2); using 0.01",
