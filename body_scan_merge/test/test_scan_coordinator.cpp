@@ -100,6 +100,29 @@ TEST(ScanCoordinator, AnAbsentDriverIsNamedAndTheOthersStillCapture) {
   std::cout << "[ figure ] " << scan.response.message << "\n";
 }
 
+TEST(ScanCoordinator, WithoutTfThePosesComeFromTheRigFile) {
+  ros::NodeHandle nh;
+  PatternSets sets(nh);
+  ASSERT_TRUE(ros::service::waitForService("/rig_poses/capture", ros::Duration(30)));
+  body_scan_msgs::Scan scan, reference;
+  scan.request.scan_id = 90;
+  ASSERT_TRUE(ros::service::call("/rig_poses/capture", scan));
+  EXPECT_TRUE(scan.response.success) << scan.response.message;
+  EXPECT_TRUE(sets.allHave(90));
+  reference.request.scan_id = 91;
+  ASSERT_TRUE(ros::service::call("/body_scan/capture", reference));  // poses from tf
+  EXPECT_EQ(scan.response.groups, reference.response.groups);
+  EXPECT_EQ(scan.response.groups.size(), 3u);  // the three pairs light each other's views
+  // Planned from geometry (a pair planned alone for want of a pose has no conflicts listed).
+  auto planned = ros::topic::waitForMessage<body_scan_msgs::TimingGroups>(
+      "/rig_poses/timing_groups", nh, ros::Duration(5));
+  auto from_tf = ros::topic::waitForMessage<body_scan_msgs::TimingGroups>(
+      "/body_scan/timing_groups", nh, ros::Duration(5));
+  ASSERT_TRUE(planned && from_tf);
+  EXPECT_FALSE(planned->conflicts.empty());
+  EXPECT_EQ(planned->conflicts, from_tf->conflicts);
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_scan_coordinator");

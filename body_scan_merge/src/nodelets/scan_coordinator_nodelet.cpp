@@ -2,9 +2,10 @@
 // (thesis 4.3, Fig 4.7): every pair of a group captures at once through its driver's ~capture
 // (Capture.srv, active_pairs = the group), and the next group starts when all have answered or
 // ~pair_timeout has passed; pairs that fail or never answer are named, never waited for forever.
-// The groups come from the calibration files and the tf poses (else the ~rig_file poses)
-// (timing_groups.h), or ~groups. A pair whose calibration or pose is still missing after
-// ~plan_wait gets a group of its own (it conflicts with nobody else's slot) and is named.
+// The groups come from the calibration files and the tf poses, else the files' alignment, else
+// the ~rig_file poses (timing_groups.h), or ~groups. A pair whose calibration or pose is still
+// missing after ~plan_wait gets a group of its own (it conflicts with nobody else's slot) and is
+// named.
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_merge/timing_groups.h>
@@ -82,8 +83,11 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
                  rate > 0 ? (", every " + std::to_string(1.0 / rate) + " s").c_str() : "");
   }
 
-  // The pose of a pair: tf (world -> <pair>_camera_optical_frame), else the rig file's.
-  std::optional<Eigen::Isometry3d> poseOf(const std::string& id, std::string& why) {
+  // The pose of a pair: tf (world -> <pair>_camera_optical_frame), else its calibration file's
+  // world_alignment, else (only once ~plan_wait is over: drivers announce their pose as they
+  // come up) the rig file's.
+  std::optional<Eigen::Isometry3d> poseOf(const std::string& id, const PairCalibration& calibration,
+                                          bool use_rig, std::string& why) {
     try {
       const geometry_msgs::TransformStamped t = tf_buffer_->lookupTransform(
           world_frame_, id + "_camera_optical_frame", ros::Time(0), ros::Duration(0.2));
@@ -94,7 +98,8 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     } catch (const tf2::TransformException& e) {
       why = "no pose on tf (" + std::string(e.what()) + ")";
     }
-    if (!rig_file_.empty()) {
+    if (calibration.alignment) return calibration.alignment->world_from_camera;
+    if (!rig_file_.empty() && use_rig) {
       try {
         if (!rig_) rig_ = sim::loadRig(rig_file_);
         return rig_->pair(id).world_from_camera;
@@ -128,7 +133,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
         continue;
       }
       std::string why;
-      const auto pose = poseOf(id, why);
+      const auto pose = poseOf(id, pair.calibration, partial, why);
       if (!pose) {
         missing.push_back(id);
         problems.push_back(id + ": " + why);
