@@ -123,6 +123,21 @@ TEST(ScanCoordinator, WithoutTfThePosesComeFromTheRigFile) {
   EXPECT_EQ(planned->conflicts, from_tf->conflicts);
 }
 
+TEST(ScanCoordinator, AllAtOnceTriggersEveryPairInOneGroup) {
+  ros::NodeHandle nh;
+  PatternSets sets(nh);
+  ASSERT_TRUE(ros::service::waitForService("/all_at_once/capture", ros::Duration(30)));
+  body_scan_msgs::Scan scan;
+  scan.request.scan_id = 120;
+  ASSERT_TRUE(ros::service::call("/all_at_once/capture", scan));
+  EXPECT_TRUE(scan.response.success) << scan.response.message;
+  ASSERT_EQ(scan.response.groups.size(), 1u);
+  EXPECT_EQ(membersOf(scan.response.groups),
+            std::set<std::string>(kPresent.begin(), kPresent.end()));
+  EXPECT_DOUBLE_EQ(scan.response.simulated_capture_seconds, 0.5);
+  EXPECT_TRUE(sets.allHave(120));
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_scan_coordinator");
