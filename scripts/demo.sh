@@ -3,6 +3,7 @@
 # representative gait pose (thesis 5.3), the merged whole-body cloud is written to
 # build/demo/full_scan.ply and .pcd, and the scan report is printed. Headless, own ROS master.
 #   SCENE=path/to/scene.yaml scripts/demo.sh    (default: the walking subject)
+#   LAUNCH_ARGS="outlier_removal:=true voxel_leaf:=0.002" scripts/demo.sh  (full_scanner args)
 set -euo pipefail
 export PATH=/usr/bin:$PATH
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -21,7 +22,7 @@ rm -f "$demo/full_scan.ply" "$demo/full_scan.pcd"
 echo "== starting full_scanner.launch headless: 3 poles x 4 simulated pairs (ROS master on port $port)"
 echo "   scene: $scene"
 roslaunch -p "$port" body_scan_launch full_scanner.launch gui:=false scene_file:="$scene" \
-  calibration_dir:="$demo/calibration" > "$demo/roslaunch.log" 2>&1 &
+  calibration_dir:="$demo/calibration" ${LAUNCH_ARGS:-} > "$demo/roslaunch.log" 2>&1 &
 launch_pid=$!
 trap 'kill -INT $launch_pid 2>/dev/null; wait $launch_pid 2>/dev/null || true' EXIT
 fail() {
@@ -30,7 +31,7 @@ fail() {
   exit 1
 }
 
-for _ in $(seq 120); do
+for _ in $(seq 360); do
   rosservice list 2>/dev/null | grep -qx /body_scan/capture && break
   sleep 0.5
 done

@@ -3,6 +3,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -47,6 +50,59 @@ size_t writePly(const std::string& path, const float* points, size_t count, size
   header.append(reinterpret_cast<const char*>(vertices.data()), vertices.size() * sizeof(Vertex));
   writeFileAtomically(path, header);
   return vertices.size();
+}
+
+std::vector<float> readPly(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw std::runtime_error("cannot open PLY file '" + path + "'");
+  auto fail = [&](const std::string& what) {
+    return std::runtime_error("PLY file '" + path + "': " + what +
+                              " (expected binary_little_endian with float x y z [uchar red "
+                              "green blue], as save_cloud writes)");
+  };
+  std::string line;
+  std::getline(file, line);
+  if (line != "ply") throw fail("no 'ply' magic line");
+  size_t count = 0;
+  std::vector<std::string> properties;
+  while (std::getline(file, line) && line != "end_header") {
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "format") {
+      std::string format;
+      words >> format;
+      if (format != "binary_little_endian") throw fail("format " + format);
+    } else if (keyword == "element") {
+      std::string name;
+      words >> name >> count;
+      if (name != "vertex") throw fail("element " + name);
+    } else if (keyword == "property") {
+      std::string type, name;
+      words >> type >> name;
+      properties.push_back(type + " " + name);
+    }
+  }
+  const std::vector<std::string> xyz = {"float x", "float y", "float z"};
+  const std::vector<std::string> xyzrgb = {"float x",   "float y",     "float z",
+                                           "uchar red", "uchar green", "uchar blue"};
+  const bool coloured = properties == xyzrgb;
+  if (!coloured && properties != xyz) throw fail("other vertex properties");
+  const size_t vertex_size = coloured ? 15 : 12;
+  std::string body(count * vertex_size, '\0');
+  if (!file.read(body.data(), static_cast<std::streamsize>(body.size())))
+    throw fail("it ends before its " + std::to_string(count) + " vertices");
+  std::vector<float> points(4 * count);
+  for (size_t i = 0; i < count; ++i) {
+    std::memcpy(&points[4 * i], body.data() + i * vertex_size, 12);
+    uint32_t rgb = 0xFFFFFF;
+    if (coloured) {
+      const auto* c = reinterpret_cast<const uint8_t*>(body.data() + i * vertex_size + 12);
+      rgb = (uint32_t{c[0]} << 16) | (uint32_t{c[1]} << 8) | c[2];
+    }
+    std::memcpy(&points[4 * i + 3], &rgb, sizeof rgb);
+  }
+  return points;
 }
 
 size_t writePcd(const std::string& path, const float* points, size_t count, size_t stride,

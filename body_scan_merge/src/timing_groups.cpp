@@ -53,10 +53,12 @@ std::vector<SurfacePoint> sampleProxy(const InterferenceProxy& proxy) {
                            static_cast<int>(&part - proxy.parts.data())});
       }
   }
-  if (proxy.floor)
-    for (double x = -0.8; x <= 0.8; x += proxy.spacing)
-      for (double y = -0.8; y <= 0.8; y += proxy.spacing)
-        if (std::hypot(x, y) <= 0.8) samples.push_back({{x, y, 0}, Eigen::Vector3d::UnitZ(), -1});
+  // The floor, more coarsely (a larger area; its overlaps are large too).
+  const double floor_step = 2 * proxy.spacing;
+  for (double x = -proxy.floor_radius; x <= proxy.floor_radius; x += floor_step)
+    for (double y = -proxy.floor_radius; y <= proxy.floor_radius; y += floor_step)
+      if (std::hypot(x, y) <= proxy.floor_radius)
+        samples.push_back({{x, y, 0}, Eigen::Vector3d::UnitZ(), -1});
   return samples;
 }
 

@@ -31,6 +31,17 @@ TEST(PlyWriter, WritesFinitePointsWithColourAndAHeaderThatCountsThem) {
   EXPECT_FLOAT_EQ(xyz[2], 2.0f);
   EXPECT_EQ(static_cast<uint8_t>(content[body + 12]), 0x10);  // red
   EXPECT_EQ(static_cast<uint8_t>(content[body + 14]), 0xF0);  // blue
+  // And back.
+  const std::vector<float> read = body_scan::readPly(path);
+  ASSERT_EQ(read.size(), 8u);
+  EXPECT_FLOAT_EQ(read[4], -0.5f);
+  EXPECT_FLOAT_EQ(read[6], 2.0f);
+  uint32_t rgb_read;
+  std::memcpy(&rgb_read, &read[7], sizeof rgb_read);
+  EXPECT_EQ(rgb_read, packed);
+  std::ofstream(path, std::ios::app) << "x";  // trailing bytes are fine; a short file is not
+  std::filesystem::resize_file(path, content.size() - 1);
+  EXPECT_THROW(body_scan::readPly(path), std::runtime_error);
   std::filesystem::remove(path);
 }
 

@@ -142,7 +142,7 @@ TEST(TimingGroups, PairsFacingEachOtherDoNotConflictPairsSideBySideDo) {
 TEST(TimingGroups, TheColouringIsMinimal) {
   std::mt19937 generator(5);
   for (int trial = 0; trial < 60; ++trial) {
-    const int n = 3 + trial % 7;
+    const int n = 3 + trial % 6;
     std::bernoulli_distribution edge(0.2 + 0.01 * trial);
     std::vector<std::vector<bool>> graph(n, std::vector<bool>(n, false));
     for (int a = 0; a < n; ++a)
@@ -226,11 +226,11 @@ TEST(TimingGroups, TheComputedGroupsOfTheDefaultRigDoNotInterfere) {
 }
 
 // The computed conflicts against the simulator: which pairs' light changes pole_a/pair_1's
-// decoding of the person (stripe more than 1 off, or lost / gained) in more than 0.2 % of its
-// person pixels when it projects together with it (pairs whose light never reaches the view
-// flip a few dozen boundary pixels at most: the sensor noise meets slightly different levels).
-// Every conflict is real and every real one is found, the weakest included (pole c's light grazing
-// through the gap between arm and torso, a few hundred pixels).
+// decoding of the person (stripe more than 1 off, or lost / gained) in more than 100 pixels when
+// it projects together with it. Pairs whose light never reaches the person in its view flip a
+// few dozen pixels at most (the sensor noise meets slightly different levels). Floor pixels are
+// not counted: pole_a/pair_1 sees the floor only beyond the proxy's floor disc (more than 1.6 m
+// from the subject), where pairs 4 of poles a and b change 5 382 and 1 103 of them.
 TEST(TimingGroups, TheConflictsIntoOnePairsViewMatchTheSimulator) {
   const sim::Rig rig = sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
   const auto conflicts = lightConflicts(geometryOf(rig.pairs));
@@ -262,10 +262,9 @@ TEST(TimingGroups, TheConflictsIntoOnePairsViewMatchTheSimulator) {
       const float a = alone(v, u), b = with(v, u);
       pixels += std::isnan(a) != std::isnan(b) || (!std::isnan(a) && std::abs(a - b) > 1.f);
     }
-    const double fraction = static_cast<double>(pixels) / person.size();
     std::cout << "[ figure ] " << rig.pairs[i].pair_id << " -> pole_a/pair_1: " << pixels << " of "
               << person.size() << " person pixels changed, computed conflict " << conflicts[i][seer]
               << "\n";
-    EXPECT_EQ(conflicts[i][seer], fraction > 0.002) << rig.pairs[i].pair_id << ": " << pixels;
+    EXPECT_EQ(conflicts[i][seer], pixels > 100) << rig.pairs[i].pair_id << ": " << pixels;
   }
 }

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace body_scan {
 
@@ -15,6 +16,11 @@ namespace body_scan {
 // failure.
 size_t writePly(const std::string& path, const float* points, size_t count, size_t stride,
                 int rgb_offset);
+
+// Reads a PLY file as writePly writes it (binary little endian; float x y z, optional uchar
+// red green blue): 4 floats per point, x y z and the packed rgb. Throws std::runtime_error
+// naming the file and what it expected.
+std::vector<float> readPly(const std::string& path);
 
 // The same points as a binary PCD v0.7 file (FIELDS x y z rgb, unorganized), same rules.
 size_t writePcd(const std::string& path, const float* points, size_t count, size_t stride,

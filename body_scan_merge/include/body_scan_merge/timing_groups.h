@@ -30,9 +30,9 @@ struct ProxyCylinder {
 // (DESIGN.md section 3), sampled every `spacing`. A point counts as lit (seen) when it faces
 // the projector (camera), lies in its sweep (image) and no other part is in between; light
 // reaching the inner side of an arm or leg through a gap counts. Default: an adult envelope
-// (torso, arms held a little away, legs, head), larger than most subjects. The
-// floor is left out by default: light on the floor only corrupts floor pixels, which the merge
-// crops away.
+// (torso, arms held a little away, legs, head), larger than most subjects, and the floor around
+// it: a floor pixel decoded from two pairs' mixed stripes triangulates to a wrong depth that
+// can land inside the scan volume (a layer of false points 0.2 m above the floor, measured).
 struct InterferenceProxy {
   std::vector<ProxyCylinder> parts = {{0, 0, 0.15, 0.21, 0.80, 1.50},      // torso
                                       {0, 0.31, 0.06, 0.06, 0.75, 1.45},   // left arm
@@ -41,8 +41,8 @@ struct InterferenceProxy {
                                       {0, -0.10, 0.08, 0.08, 0.0, 0.85},   // right leg
                                       {0, 0, 0.10, 0.09, 1.45, 1.95}};     // neck and head
   double spacing = 0.01;                                                   // m between samples
-  bool floor = false;        // also the floor around the subject (radius 0.8 m)
-  double image_margin = 20;  // px: a point this close outside an image still counts as seen
+  double floor_radius = 1.5;  // m of floor around the subject; 0 = no floor
+  double image_margin = 20;   // px: a point this close outside an image still counts as seen
   // m: the lit region grows this far beyond the first and last calibrated stripe planes (the
   // calibration may miss the outermost stripes; conservative).
   double light_margin = 0.02;

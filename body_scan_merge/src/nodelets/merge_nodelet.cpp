@@ -34,7 +34,7 @@ class MergeNodelet : public nodelet::Nodelet {
       NODELET_INFO("~pairs not set: expecting the 12 pairs of the thesis rig");
     }
     world_frame_ = pnh.param<std::string>("world_frame", "world");
-    const double timeout = pnh.param("timeout", 10.0);
+    const double timeout = pnh.param("timeout", 60.0);
     options_.crop_radius = pnh.param("crop_radius", options_.crop_radius);
     options_.crop_min_z = pnh.param("crop_min_z", options_.crop_min_z);
     options_.crop_max_z = pnh.param("crop_max_z", options_.crop_max_z);

@@ -51,7 +51,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     proxy_.image_margin = pnh.param("image_margin", proxy_.image_margin);
     proxy_.min_overlap_area = pnh.param("min_overlap_area", proxy_.min_overlap_area);
     proxy_.light_margin = pnh.param("light_margin", proxy_.light_margin);
-    proxy_.floor = pnh.param("proxy_floor", proxy_.floor);
+    proxy_.floor_radius = pnh.param("floor_radius", proxy_.floor_radius);
     if (proxy_.spacing <= 0.001 || proxy_.spacing > 0.2) {
       NODELET_ERROR("~proxy_spacing %.4f m is out of range (0.001 .. 0.2); using 0.01",
                     proxy_.spacing);
@@ -197,6 +197,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
       response.groups.push_back(line);
       captureGroup(group, response.scan_id, response.pairs_missing);
     }
+    std::sort(response.pairs_missing.begin(), response.pairs_missing.end());
     response.simulated_capture_seconds = plan_.groups.size() * group_seconds_;
     response.success = response.pairs_missing.empty();
     std::ostringstream message;
@@ -232,7 +233,8 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
           if (other != id) capture.request.active_pairs.push_back(other);
         const std::string service = ros::names::append(root_, id + "/driver/capture");
         std::string error;
-        if (!ros::service::exists(service, false))
+        // A driver may still be coming up: wait for its service as long as for its answer.
+        if (!ros::service::waitForService(service, ros::Duration(pair_timeout_)))
           error = service + " is not advertised (is the pair's driver running?)";
         else if (!ros::service::call(service, capture))
           error = service + " call failed";

@@ -128,6 +128,13 @@ class Ellipsoid : public Surface {
   bool intersect(const Ray& ray, double t_min, double t_max, Hit& hit) const override;
   double boundingRadius() const override { return radii_.maxCoeff(); }
   Eigen::Vector3d boundingCenter() const override { return center_; }
+  // For evaluation tools that sample the true surface.
+  const Eigen::Vector3d& center() const { return center_; }
+  const Eigen::Vector3d& radii() const { return radii_; }
+  const Eigen::Matrix3d& orientation() const { return orientation_; }
+  bool contains(const Eigen::Vector3d& point) const {
+    return (to_unit_ * (point - center_)).squaredNorm() < 1.0;
+  }
 
  private:
   Eigen::Vector3d center_, radii_;

@@ -1,0 +1,152 @@
+// Decode + triangulate + merge of one whole-body scan of the default rig (12 pairs, 18 frames
+// each, the standing subject), on 2 threads (pairs split between them), then the merge
+// (world transform, crop, 1.5 mm voxel grid; no outlier removal, the launch default):
+//   FullScan/ours                 our decoder (kFast) + triangulation + merge
+//   FullScan/opencv_getProjPixel  the same pipeline with OpenCV structured_light decoding
+//                                 (integer stripes: stripe centres instead of subpixel)
+//   FullScan/decode_triangulate   our 12 decodes + triangulations alone
+//   FullScan/merge                the merge alone
+// scripts/bench_report.py prints every case's median over FullScan/ours.
+#include <benchmark/benchmark.h>
+#include <body_scan_driver/sim/rig.h>
+#include <body_scan_driver/stripe_decoder.h>
+#include <body_scan_driver/triangulation.h>
+#include <body_scan_merge/cloud_merge.h>
+
+#include <opencv2/core/utility.hpp>
+#include <opencv2/structured_light/graycodepattern.hpp>
+#include <thread>
+
+using namespace body_scan;
+
+namespace {
+
+struct RigScan {
+  std::vector<std::vector<cv::Mat>> frames;  // per pair
+  std::vector<std::unique_ptr<Triangulator>> triangulators;
+  std::vector<Eigen::Isometry3d> poses;
+  PatternLayout layout{8, true};
+  std::vector<std::vector<float>> clouds;  // per pair, x y z rgb
+};
+
+RigScan& rigScan() {
+  static RigScan scan = [] {
+    cv::setNumThreads(2);
+    RigScan s;
+    const sim::Rig rig = sim::loadRig(BODY_SCAN_DRIVER_CONFIG_DIR "/rigs/thesis_rig.yaml");
+    auto scene = std::make_shared<sim::Scene>(
+        sim::loadScene(BODY_SCAN_DRIVER_CONFIG_DIR "/scenes/standing_person.yaml"));
+    for (const sim::VirtualPairConfig& config : rig.pairs) {
+      const sim::VirtualPair pair(config, scene);
+      s.frames.push_back(pair.render(1).frames);
+      s.triangulators.push_back(std::make_unique<Triangulator>(pair.factoryCalibration()));
+      s.poses.push_back(config.world_from_camera);
+      s.clouds.emplace_back(640 * 480 * 4, 0.f);
+    }
+    cv::setNumThreads(1);
+    return s;
+  }();
+  return scan;
+}
+
+// Runs work(pair) for every pair, the pairs split between 2 threads.
+template <typename Work>
+void forEachPairOnTwoThreads(size_t pairs, Work work) {
+  std::thread second([&] {
+    for (size_t i = 1; i < pairs; i += 2) work(i);
+  });
+  for (size_t i = 0; i < pairs; i += 2) work(i);
+  second.join();
+}
+
+MergedCloud merge(const RigScan& s) {
+  std::vector<CloudView> views;
+  for (size_t i = 0; i < s.clouds.size(); ++i)
+    views.push_back(CloudView{s.clouds[i].data(), 640 * 480, 4, 3, s.poses[i]});
+  return mergeClouds(views, MergeOptions{});
+}
+
+void decodeTriangulateOurs(RigScan& s) {
+  static thread_local StripeImage stripes;  // one per thread, reused like Triangulate's
+  forEachPairOnTwoThreads(s.frames.size(), [&](size_t i) {
+    thread_local StripeDecoder decoder(PatternLayout(8, true));
+    decoder.decode(s.frames[i], stripes);
+    s.triangulators[i]->triangulate(stripes.coordinate, s.clouds[i].data(), 4);
+  });
+}
+
+void ours(benchmark::State& state) {
+  RigScan& s = rigScan();
+  size_t points = 0;
+  for (auto _ : state) {
+    decodeTriangulateOurs(s);
+    points = merge(s).size();
+  }
+  state.counters["points"] = static_cast<double>(points);
+  state.SetLabel(simdLevelName(detectedSimdLevel()));
+}
+
+void decodeTriangulate(benchmark::State& state) {
+  RigScan& s = rigScan();
+  for (auto _ : state) decodeTriangulateOurs(s);
+}
+
+void mergeOnly(benchmark::State& state) {
+  RigScan& s = rigScan();
+  decodeTriangulateOurs(s);
+  size_t points = 0;
+  for (auto _ : state) points = merge(s).size();
+  state.counters["points"] = static_cast<double>(points);
+}
+
+void opencvGetProjPixel(benchmark::State& state) {
+  RigScan& s = rigScan();
+  // 256 x 2 projector: x from our 8 pattern/inverse pairs, a 1-bit y from a repeated pair.
+  std::vector<std::vector<cv::Mat>> sets;
+  for (const auto& set : s.frames) {
+    std::vector<cv::Mat> frames(set.begin() + 2, set.end());
+    frames.insert(frames.end(), set.begin() + 2, set.begin() + 4);
+    sets.push_back(std::move(frames));
+  }
+  size_t points = 0;
+  for (auto _ : state) {
+    forEachPairOnTwoThreads(sets.size(), [&](size_t i) {
+      thread_local auto opencv = cv::structured_light::GrayCodePattern::create(256, 2);
+      thread_local cv::Mat1f coordinate(480, 640);
+      cv::Point projector_pixel;
+      for (int v = 0; v < 480; ++v)
+        for (int u = 0; u < 640; ++u)
+          // getProjPixel returns true when the pixel is not decodable (shadow).
+          coordinate(v, u) = opencv->getProjPixel(sets[i], u, v, projector_pixel)
+                                 ? std::numeric_limits<float>::quiet_NaN()
+                                 : projector_pixel.x + 0.5f;
+      s.triangulators[i]->triangulate(coordinate, s.clouds[i].data(), 4);
+    });
+    points = merge(s).size();
+  }
+  state.counters["points"] = static_cast<double>(points);
+}
+
+void registerAll() {
+  auto add = [](const char* name, void (*function)(benchmark::State&)) {
+    return benchmark::RegisterBenchmark((std::string("FullScan/") + name).c_str(), function)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->Repetitions(5)
+        ->ReportAggregatesOnly(true);
+  };
+  add("ours", ours);
+  add("opencv_getProjPixel", opencvGetProjPixel)->Iterations(2)->Repetitions(3);
+  add("decode_triangulate", decodeTriangulate);
+  add("merge", mergeOnly);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  registerAll();
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
