@@ -86,7 +86,8 @@ struct PairView {
   Eigen::Isometry3d camera_from_world;
   Eigen::Vector3d camera_position;  // world
   Eigen::Vector3d source_world;
-  Eigen::Vector4d first_plane, last_plane;  // camera frame, finite
+  // Camera frame, finite, unit normals oriented so the swept wedge is where both are >= 0.
+  Eigen::Vector4d first_plane, last_plane;
   PinholeCamera camera;
 };
 
@@ -98,19 +99,29 @@ PairView pairView(const PairGeometry& pair) {
   const auto& planes = pair.calibration.projector.planes;
   auto first = std::find_if(planes.begin(), planes.end(), [](auto& p) { return p.allFinite(); });
   auto last = std::find_if(planes.rbegin(), planes.rend(), [](auto& p) { return p.allFinite(); });
-  view.first_plane = *first;
-  view.last_plane = *last;
+  // A point inside the sweep: where the optical axis meets the middle calibrated plane (else a
+  // point 1 m ahead); the first and last planes are oriented to be positive there.
+  Eigen::Vector4d middle = planes[(first - planes.begin() + (planes.rend() - last) - 1) / 2];
+  if (!middle.allFinite()) middle = *first;
+  const double depth = std::abs(middle[2]) > 1e-9 ? -middle[3] / middle[2] : 1.0;
+  const Eigen::Vector3d inside(0, 0, depth > 0 ? depth : 1.0);
+  auto oriented = [&](Eigen::Vector4d plane) {
+    plane /= plane.head<3>().norm();
+    return plane.head<3>().dot(inside) + plane[3] < 0 ? Eigen::Vector4d(-plane) : plane;
+  };
+  view.first_plane = oriented(*first);
+  view.last_plane = oriented(*last);
   view.camera = pair.calibration.camera;
   return view;
 }
 
-bool lit(const PairView& view, const SurfacePoint& point) {
+bool lit(const PairView& view, const SurfacePoint& point, double margin) {
   if (point.normal.dot(view.source_world - point.position) <= 0) return false;  // faces away
   const Eigen::Vector3d p = view.camera_from_world * point.position;
   if (p.z() <= 0) return false;  // behind the pair
-  const double first = view.first_plane.head<3>().dot(p) + view.first_plane[3];
-  const double last = view.last_plane.head<3>().dot(p) + view.last_plane[3];
-  return first * last <= 0;  // between the first and the last stripe plane
+  // Between the first and the last stripe plane, each moved `margin` outward.
+  return view.first_plane.head<3>().dot(p) + view.first_plane[3] >= -margin &&
+         view.last_plane.head<3>().dot(p) + view.last_plane[3] >= -margin;
 }
 
 bool seen(const PairView& view, const SurfacePoint& point, double margin) {
@@ -136,8 +147,8 @@ std::vector<std::vector<bool>> lightConflicts(const std::vector<PairGeometry>& p
     lit_by[i].resize(samples.size());
     seen_by[i].resize(samples.size());
     for (size_t k = 0; k < samples.size(); ++k) {
-      lit_by[i][k] =
-          lit(views[i], samples[k]) && !shadowed(proxy, samples[k], views[i].source_world);
+      lit_by[i][k] = lit(views[i], samples[k], proxy.light_margin) &&
+                     !shadowed(proxy, samples[k], views[i].source_world);
       seen_by[i][k] = seen(views[i], samples[k], proxy.image_margin) &&
                       !shadowed(proxy, samples[k], views[i].camera_position);
     }
@@ -182,6 +193,45 @@ std::vector<std::vector<int>> minimumGroups(const std::vector<std::vector<bool>>
   };
   int k = 1;
   while (!assign(0, k, 0)) ++k;
+  // Among the minimum colourings, the most balanced one (least sum of squared group sizes; the
+  // first found on ties): groups of 2-4 pairs rather than 4+1. Exhaustive with a bound (12
+  // pairs: at most a few hundred thousand steps); past the step budget the best so far stays.
+  std::vector<int> best = colour, sizes(k, 0);
+  auto squares = [](const std::vector<int>& counts) {
+    int sum = 0;
+    for (int c : counts) sum += c * c;
+    return sum;
+  };
+  for (int c : colour) ++sizes[c];
+  int best_squares = squares(sizes);
+  std::fill(colour.begin(), colour.end(), -1);
+  std::fill(sizes.begin(), sizes.end(), 0);
+  long budget = 5000000;
+  std::function<void(int, int, int)> balance = [&](int position, int used, int partial) {
+    if (--budget < 0) return;
+    if (partial >= best_squares) return;  // squares only grow as pairs are added
+    if (position == n) {
+      if (used == k) {
+        best = colour;
+        best_squares = partial;
+      }
+      return;
+    }
+    const int pair = order[position];
+    for (int c = 0; c < std::min(k, used + 1); ++c) {
+      bool free = true;
+      for (int other = 0; other < n && free; ++other)
+        free = !(colour[other] == c && adjacent(pair, other));
+      if (!free) continue;
+      colour[pair] = c;
+      ++sizes[c];
+      balance(position + 1, std::max(used, c + 1), partial + 2 * sizes[c] - 1);
+      --sizes[c];
+      colour[pair] = -1;
+    }
+  };
+  balance(0, 0, 0);
+  colour = best;
   // Groups ordered by their first pair; pairs in input order within a group.
   std::vector<std::vector<int>> groups;
   std::vector<int> group_of_colour(k, -1);

@@ -52,7 +52,78 @@ int chromaticNumberByBruteForce(const std::vector<std::vector<bool>>& graph) {
   return n;
 }
 
+// The least sum of squared group sizes over every colouring with k colours.
+int mostBalancedSquares(const std::vector<std::vector<bool>>& graph, int k) {
+  const int n = static_cast<int>(graph.size());
+  std::vector<int> colour(n, 0);
+  int best = n * n + 1;
+  while (true) {
+    bool ok = true;
+    for (int a = 0; a < n && ok; ++a)
+      for (int b = a + 1; b < n && ok; ++b)
+        ok = !((graph[a][b] || graph[b][a]) && colour[a] == colour[b]);
+    if (ok) {
+      std::vector<int> sizes(k, 0);
+      for (int c : colour) ++sizes[c];
+      int squares = 0;
+      for (int size : sizes) squares += size * size;
+      best = std::min(best, squares);
+    }
+    int i = 0;
+    while (i < n && ++colour[i] == k) colour[i++] = 0;
+    if (i == n) break;
+  }
+  return best;
+}
+
 }  // namespace
+
+TEST(TimingGroups, ThreePairsAroundTheSubjectFormATriangle) {
+  // 120 degrees apart: each pair lights about 160 degrees of the torso and sees as much, so
+  // every pair's light reaches both other views: three groups.
+  const auto pairs = geometryOf({pairAt("p0", {1.0, 0, 1.2}), pairAt("p1", {-0.5, 0.866, 1.2}),
+                                 pairAt("p2", {-0.5, -0.866, 1.2})});
+  InterferenceProxy torso;
+  torso.parts = {{0, 0, 0.18, 0.18, 0.6, 1.8}};
+  const auto conflicts = lightConflicts(pairs, torso);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (i != j) {
+        EXPECT_TRUE(conflicts[i][j]) << i << " -> " << j;
+      }
+  EXPECT_EQ(planTimingGroups(pairs, torso).groups.size(), 3u);
+}
+
+TEST(TimingGroups, TheLightMarginGrowsTheSweep) {
+  // One above the other on the same spot: the top pair's sweep (4 deg above to 36 deg below
+  // its camera's axis, from 0.33 m above it) ends about 0.7 m above what the low camera sees.
+  const auto pairs = geometryOf({pairAt("top", {1.0, 0, 1.8}), pairAt("low", {1.0, 0, 0.5})});
+  InterferenceProxy torso;
+  torso.parts = {{0, 0, 0.15, 0.2, 0.0, 2.0}};
+  torso.light_margin = 0;
+  EXPECT_FALSE(lightConflicts(pairs, torso)[0][1]);
+  torso.light_margin = 1.0;  // the sweep reaches about 1 m further down
+  EXPECT_TRUE(lightConflicts(pairs, torso)[0][1]);
+}
+
+TEST(TimingGroups, TheMinimumColouringIsTheMostBalanced) {
+  // Only 0-1 conflict: {0 2} {1 3}, not {0 2 3} {1}.
+  std::vector<std::vector<bool>> graph(4, std::vector<bool>(4, false));
+  graph[0][1] = true;
+  EXPECT_EQ(minimumGroups(graph), (std::vector<std::vector<int>>{{0, 2}, {1, 3}}));
+  std::mt19937 generator(11);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 3 + trial % 5;
+    std::bernoulli_distribution edge(0.15 + 0.01 * trial);
+    graph.assign(n, std::vector<bool>(n, false));
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) graph[a][b] = a != b && edge(generator);
+    const auto groups = minimumGroups(graph);
+    int squares = 0;
+    for (const auto& group : groups) squares += group.size() * group.size();
+    EXPECT_EQ(squares, mostBalancedSquares(graph, groups.size())) << trial;
+  }
+}
 
 TEST(TimingGroups, PairsFacingEachOtherDoNotConflictPairsSideBySideDo) {
   const auto pairs = geometryOf({pairAt("front", {1.0, 0, 1.2}), pairAt("back", {-1.0, 0, 1.2}),
@@ -137,4 +208,48 @@ TEST(TimingGroups, TheComputedGroupsOfTheDefaultRigDoNotInterfere) {
             << " %, in its timing group " << 100 * worst_grouped << " %, all 12 at once "
             << 100 * worst_all << " %\n";
   EXPECT_GT(worst_all, 0.05);
+}
+
+// The computed conflicts against the simulator: which pairs' light changes pole_a/pair_1's
+// decoding of the person (stripe more than 1 off, or lost / gained) in more than 100 pixels when
+// it projects together with it. Pairs whose light never reaches the person in its view flip a
+// few dozen pixels at most (the sensor noise meets slightly different levels). Floor pixels are
+// not counted: pole_a/pair_1 sees the floor only beyond the proxy's floor disc (more than 1.6 m
+// from the subject), where pairs 4 of poles a and b change 5 382 and 1 103 of them.
+TEST(TimingGroups, TheConflictsIntoOnePairsViewMatchTheSimulator) {
+  const sim::Rig rig = sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
+  const auto conflicts = lightConflicts(geometryOf(rig.pairs));
+  auto scene =
+      std::make_shared<sim::Scene>(sim::loadScene(kDriverConfig + "/scenes/standing_person.yaml"));
+  const int seer = 0;  // pole_a/pair_1
+  const sim::VirtualPair pair(rig.pairs[seer], scene);
+  std::vector<std::pair<int, int>> person;  // (v, u) of the pixels that see the person
+  auto decode = [&](const std::vector<const sim::VirtualPair*>& others) {
+    const sim::RenderedPatternSet set = pair.render(1, others);
+    StripeImage decoded;
+    StripeDecoder(pair.layout()).decode(set.frames, decoded);
+    if (person.empty())
+      for (int v = 0; v < set.truth.surface.rows; ++v)
+        for (int u = 0; u < set.truth.surface.cols; ++u) {
+          const int surface = set.truth.surface(v, u);
+          if (surface >= 0 && scene->surfaces()[surface]->name.rfind("person/", 0) == 0)
+            person.emplace_back(v, u);
+        }
+    return decoded.coordinate.clone();
+  };
+  const cv::Mat1f alone = decode({});
+  for (size_t i = 0; i < rig.pairs.size(); ++i) {
+    if (static_cast<int>(i) == seer) continue;
+    const auto other = sim::VirtualPair::projectorOnly(rig.pairs[i], scene);
+    const cv::Mat1f with = decode({&other});
+    int pixels = 0;
+    for (const auto& [v, u] : person) {
+      const float a = alone(v, u), b = with(v, u);
+      pixels += std::isnan(a) != std::isnan(b) || (!std::isnan(a) && std::abs(a - b) > 1.f);
+    }
+    std::cout << "[ figure ] " << rig.pairs[i].pair_id << " -> pole_a/pair_1: " << pixels << " of "
+              << person.size() << " person pixels changed, computed conflict " << conflicts[i][seer]
+              << "\n";
+    EXPECT_EQ(conflicts[i][seer], pixels > 100) << rig.pairs[i].pair_id << ": " << pixels;
+  }
 }

@@ -43,6 +43,9 @@ struct InterferenceProxy {
   double spacing = 0.01;                                                   // m between samples
   double floor_radius = 1.5;  // m of floor around the subject; 0 = no floor
   double image_margin = 20;   // px: a point this close outside an image still counts as seen
+  // m: the lit region grows this far beyond the first and last calibrated stripe planes (the
+  // calibration may miss the outermost stripes; conservative).
+  double light_margin = 0.02;
   // Overlaps smaller than this (m^2) are tolerated: grazing light through the narrow gap between
   // an arm and the torso reaches a few square centimetres that pairs on opposite poles both see.
   double min_overlap_area = 0.0;
@@ -57,8 +60,9 @@ struct TimingPlan {
 std::vector<std::vector<bool>> lightConflicts(const std::vector<PairGeometry>& pairs,
                                               const InterferenceProxy& proxy = {});
 
-// A minimum colouring of the undirected conflict graph (exact; deterministic: pairs keep
-// their input order inside a group and groups are ordered by their first pair).
+// A minimum colouring of the undirected conflict graph (exact), the most balanced one among
+// the minimum colourings (least sum of squared group sizes). Deterministic: pairs keep their
+// input order inside a group and groups are ordered by their first pair.
 std::vector<std::vector<int>> minimumGroups(const std::vector<std::vector<bool>>& conflicts);
 
 TimingPlan planTimingGroups(const std::vector<PairGeometry>& pairs,

@@ -2,8 +2,12 @@
 // (thesis 4.3, Fig 4.7): every pair of a group captures at once through its driver's ~capture
 // (Capture.srv, active_pairs = the group), and the next group starts when all have answered or
 // ~pair_timeout has passed; pairs that fail or never answer are named, never waited for forever.
-// The groups come from the calibration files and the tf poses (timing_groups.h), or ~groups.
+// The groups come from the calibration files and the tf poses, else the files' alignment, else
+// the ~rig_file poses (timing_groups.h), or ~groups. A pair whose calibration or pose is still
+// missing after ~plan_wait gets a group of its own (it conflicts with nobody else's slot) and is
+// named.
 #include <body_scan_driver/calibration_file.h>
+#include <body_scan_driver/sim/rig.h>
 #include <body_scan_merge/timing_groups.h>
 #include <body_scan_msgs/Capture.h>
 #include <body_scan_msgs/Scan.h>
@@ -17,6 +21,7 @@
 #include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <pluginlib/class_list_macros.hpp>
 #include <set>
 #include <sstream>
@@ -41,6 +46,17 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     pair_timeout_ = pnh.param("pair_timeout", 10.0);
     all_at_once_ = pnh.param("all_at_once", false);
     plan_wait_ = pnh.param("plan_wait", 30.0);
+    rig_file_ = pnh.param<std::string>("rig_file", "");
+    proxy_.spacing = pnh.param("proxy_spacing", proxy_.spacing);
+    proxy_.image_margin = pnh.param("image_margin", proxy_.image_margin);
+    proxy_.min_overlap_area = pnh.param("min_overlap_area", proxy_.min_overlap_area);
+    proxy_.light_margin = pnh.param("light_margin", proxy_.light_margin);
+    proxy_.floor_radius = pnh.param("floor_radius", proxy_.floor_radius);
+    if (proxy_.spacing <= 0.001 || proxy_.spacing > 0.2) {
+      NODELET_ERROR("~proxy_spacing %.4f m is out of range (0.001 .. 0.2); using 0.01",
+                    proxy_.spacing);
+      proxy_.spacing = 0.01;
+    }
     std::vector<std::string> groups;
     if (pnh.getParam("groups", groups))
       for (const std::string& group : groups) {
@@ -67,34 +83,75 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
                  rate > 0 ? (", every " + std::to_string(1.0 / rate) + " s").c_str() : "");
   }
 
-  // Plans the groups from the calibration files and the pairs' poses on tf. Throws
-  // std::runtime_error naming what is missing and how to provide it.
-  void planFromCalibration() {
+  // The pose of a pair: tf (world -> <pair>_camera_optical_frame), else its calibration file's
+  // world_alignment, else (only once ~plan_wait is over: drivers announce their pose as they
+  // come up) the rig file's.
+  std::optional<Eigen::Isometry3d> poseOf(const std::string& id, const PairCalibration& calibration,
+                                          bool use_rig, std::string& why) {
+    try {
+      const geometry_msgs::TransformStamped t = tf_buffer_->lookupTransform(
+          world_frame_, id + "_camera_optical_frame", ros::Time(0), ros::Duration(0.2));
+      const auto& r = t.transform.rotation;
+      const auto& p = t.transform.translation;
+      return Eigen::Isometry3d(Eigen::Translation3d(p.x, p.y, p.z) *
+                               Eigen::Quaterniond(r.w, r.x, r.y, r.z));
+    } catch (const tf2::TransformException& e) {
+      why = "no pose on tf (" + std::string(e.what()) + ")";
+    }
+    if (calibration.alignment) return calibration.alignment->world_from_camera;
+    if (!rig_file_.empty() && use_rig) {
+      try {
+        if (!rig_) rig_ = sim::loadRig(rig_file_);
+        return rig_->pair(id).world_from_camera;
+      } catch (const std::exception& e) {
+        why += "; ~rig_file: " + std::string(e.what());
+      }
+    }
+    why +=
+        ": start its driver (factory tf) or the world_alignment_publisher, set ~rig_file, "
+        "or give ~groups";
+    return std::nullopt;
+  }
+
+  // Plans the groups from the calibration files and the pairs' poses. Returns the pairs whose
+  // geometry is missing, each with what is missing and how to provide it; with `partial`, they
+  // get a group of their own each and the rest is planned.
+  std::vector<std::string> planFromCalibration(bool partial) {
     std::vector<PairGeometry> geometry;
+    std::vector<std::string> missing, problems;
     for (const std::string& id : pairs_) {
       std::string stem = id;
       std::replace(stem.begin(), stem.end(), '/', '_');
       const std::string path = calibration_dir_ + "/" + stem + calibration_suffix_ + ".yaml";
       PairGeometry pair;
       pair.pair_id = id;
-      pair.calibration = loadCalibration(path);  // throws naming the file
-      geometry_msgs::TransformStamped t;
       try {
-        t = tf_buffer_->lookupTransform(world_frame_, id + "_camera_optical_frame", ros::Time(0),
-                                        ros::Duration(1.0));
-      } catch (const tf2::TransformException& e) {
-        throw std::runtime_error("no pose of " + id + " on tf (" + e.what() +
-                                 "): start its driver (factory tf) or the "
-                                 "world_alignment_publisher, or give ~groups");
+        pair.calibration = loadCalibration(path);  // throws naming the file
+      } catch (const std::exception& e) {
+        missing.push_back(id);
+        problems.push_back(id + ": " + e.what());
+        continue;
       }
-      const auto& r = t.transform.rotation;
-      const auto& p = t.transform.translation;
-      pair.world_from_camera =
-          Eigen::Translation3d(p.x, p.y, p.z) * Eigen::Quaterniond(r.w, r.x, r.y, r.z);
+      std::string why;
+      const auto pose = poseOf(id, pair.calibration, partial, why);
+      if (!pose) {
+        missing.push_back(id);
+        problems.push_back(id + ": " + why);
+        continue;
+      }
+      pair.world_from_camera = *pose;
       geometry.push_back(std::move(pair));
     }
-    plan_ = planTimingGroups(geometry);
-    publishPlan("computed from the calibrated rig");
+    if (!missing.empty() && !partial) return problems;
+    TimingPlan plan = planTimingGroups(geometry, proxy_);
+    for (const std::string& id : missing) plan.groups.push_back({id});
+    plan_ = std::move(plan);
+    for (const std::string& problem : problems)
+      NODELET_ERROR("timing groups: %s; planned alone", problem.c_str());
+    publishPlan(missing.empty() ? "computed from the calibrated rig"
+                                : "computed; " + std::to_string(missing.size()) +
+                                      " pair(s) without geometry in groups of their own");
+    return problems;
   }
 
   void publishPlan(const std::string& origin) {
@@ -121,13 +178,10 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     // up to ~plan_wait for the whole rig before giving up.
     for (const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(plan_wait_);
          plan_.groups.empty();) {
+      const bool last_try = ros::WallTime::now() >= deadline || !ros::ok();
       try {
-        planFromCalibration();
-      } catch (const std::exception& e) {
-        if (ros::WallTime::now() < deadline && ros::ok()) {
-          ros::WallDuration(0.5).sleep();
-          continue;
-        }
+        if (!planFromCalibration(last_try).empty() && !last_try) ros::WallDuration(0.5).sleep();
+      } catch (const std::exception& e) {  // e.g. a calibration file with no usable planes
         response.success = false;
         response.message = std::string("cannot plan the timing groups: ") + e.what();
         NODELET_ERROR("%s", response.message.c_str());
@@ -209,6 +263,9 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
   std::string calibration_dir_, calibration_suffix_, world_frame_, root_;
   double group_seconds_ = 0.5, pair_timeout_ = 10.0, plan_wait_ = 30.0;
   bool all_at_once_ = false;
+  std::string rig_file_;
+  std::optional<sim::Rig> rig_;
+  InterferenceProxy proxy_;
   TimingPlan plan_;
   uint32_t next_scan_id_ = 0;
   std::mutex scan_mutex_;
