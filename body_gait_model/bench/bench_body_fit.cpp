@@ -1,6 +1,8 @@
 // Fitting a 1 M point whole-body cloud (thesis 5.5), against named peers in the same run:
 //   fit/full          fitBody with the default options (direct fit + Ceres refinement + quality)
 //   fit/no_refinement the direct fit of 5.5 alone (peer: what refinement costs)
+//   fit/all_points    fitBody without the internal subsample (max_fit_points = 0; peer: what
+//                     subsampling the fitting stages saves)
 //   axes/pca          estimateBodyAxes alone (peer: the PCA a cylinder baseline would need)
 // Target (issue 5): fit/full <= 500 ms on 1 M points.
 #include <benchmark/benchmark.h>
@@ -32,10 +34,11 @@ const Cloud& millionPoints() {
   return cloud;
 }
 
-void fit(benchmark::State& state, bool refine) {
+void fit(benchmark::State& state, bool refine, bool subsample = true) {
   const Cloud& cloud = millionPoints();
   FitOptions options;
   options.refine = refine;
+  if (!subsample) options.max_fit_points = 0;
   for (auto _ : state) {
     BodyFit result = fitBody(cloud, options);
     benchmark::DoNotOptimize(result);
@@ -45,6 +48,7 @@ void fit(benchmark::State& state, bool refine) {
 
 void fitFull(benchmark::State& state) { fit(state, true); }
 void fitNoRefinement(benchmark::State& state) { fit(state, false); }
+void fitAllPoints(benchmark::State& state) { fit(state, true, false); }
 
 void axesPca(benchmark::State& state) {
   const Cloud& cloud = millionPoints();
@@ -59,5 +63,6 @@ void axesPca(benchmark::State& state) {
 
 BENCHMARK(fitFull)->Name("fit/full")->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(fitNoRefinement)->Name("fit/no_refinement")->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(fitAllPoints)->Name("fit/all_points")->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(axesPca)->Name("axes/pca")->Unit(benchmark::kMillisecond)->MinTime(1.0);
 BENCHMARK_MAIN();

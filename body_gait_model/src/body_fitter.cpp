@@ -180,14 +180,14 @@ enum Part { kTorsoPart, kHeadPart, kRightArm, kLeftArm, kRightLeg, kLeftLeg, kUn
 FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,
                        const FitQualityOptions& options) {
   FitQuality quality;
-  const PosedModel posed = forwardKinematics(model);
+  const SegmentSurfaces surfaces = segmentSurfaces(forwardKinematics(model));
   double sum_squares = 0;
   int explained = 0, evaluated = 0;
   const size_t stride = std::max<size_t>(1, cloud.size() / size_t(std::max(options.max_points, 1)));
   std::array<int, kSegmentCount> nearest{};
   for (size_t index = 0; index < cloud.size(); index += stride) {
     const Eigen::Vector3d& point = cloud[index];
-    const auto [best_segment, best] = nearestSegment(posed, point);
+    const auto [best_segment, best] = nearestSegment(surfaces, point);
     sum_squares += best * best;
     explained += best <= options.explained_distance;
     ++nearest[best_segment];
@@ -528,21 +528,29 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
       if (model_points[i].y() > foot_top) without_feet.push_back(cloud[i]);
     fit.refinement = refineModel(model, without_feet, options.refinement);
   }
-  fit.quality = evaluateFit(model, cloud, options.quality);
 }
 
 }  // namespace
 
-BodyFit fitBody(const Cloud& cloud, const FitOptions& options) {
+BodyFit fitBody(const Cloud& full_cloud, const FitOptions& options) {
   BodyFit fit;
+  // An even subsample (every k-th point keeps every viewpoint's share) for the fitting stages.
+  Cloud subsample;
+  if (options.max_fit_points > 0 && full_cloud.size() > size_t(options.max_fit_points)) {
+    subsample.reserve(size_t(options.max_fit_points));
+    for (size_t i = 0; i < size_t(options.max_fit_points); ++i)
+      subsample.push_back(full_cloud[i * full_cloud.size() / size_t(options.max_fit_points)]);
+  }
+  const Cloud& cloud = subsample.empty() ? full_cloud : subsample;
   fit.axes = estimateBodyAxes(cloud, options.axes);  // refuses clouds that are no body at all
   try {
     fitModel(cloud, options, fit);
+    fit.quality = evaluateFit(fit.model, full_cloud, options.quality);
   } catch (const std::invalid_argument& not_a_body) {
     // Shaped unlike a body (or parts missing): a standing template at the centroid, flagged.
     fit.model = standingModel(std::max(fit.axes.height(), 0.5));
     fit.model.p = poseVectorFromFrame(fit.axes.centroid, fit.axes.axes);
-    fit.quality = evaluateFit(fit.model, cloud, options.quality);
+    fit.quality = evaluateFit(fit.model, full_cloud, options.quality);
     fit.quality.low_quality = true;
     fit.quality.reason = std::string("not fitted: ") + not_a_body.what();
   }

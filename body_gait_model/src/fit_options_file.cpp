@@ -100,7 +100,8 @@ FitOptions loadFitOptions(const std::string& path) {
       .field("arm_split_window", options.arm_split_window)
       .field("leg_split_window", options.leg_split_window)
       .field("limb_track_radius", options.limb_track_radius)
-      .field("hip_height", options.hip_height);
+      .field("hip_height", options.hip_height)
+      .field("max_fit_points", options.max_fit_points);
   top.read(root);
   return options;
 }

@@ -258,33 +258,54 @@ BodyModel clampToJointLimits(BodyModel model) {
   return model;
 }
 
-double taperedCylinderDistance(const Eigen::Vector3d& point, const Eigen::Vector3d& proximal,
-                               const Eigen::Vector3d& distal, double r0, double r1) {
+TaperedCylinder::TaperedCylinder(const Eigen::Vector3d& proximal, const Eigen::Vector3d& distal,
+                                 double r0, double r1)
+    : proximal_(proximal), r0_(r0), r1_(r1) {
   const Eigen::Vector3d axis = distal - proximal;
-  const double length = axis.norm();
-  const Eigen::Vector3d offset = point - proximal;
-  if (!(length > 0)) return offset.norm() - std::max(r0, r1);
-  const Eigen::Vector3d unit = axis / length;
-  const double axial = offset.dot(unit);
-  const double radial = (offset - axial * unit).norm();
+  length_ = axis.norm();
+  if (length_ > 0) {
+    unit_ = axis / length_;
+    slope_ = (r1 - r0) / length_;
+    inverse_profile_squared_ = 1.0 / (length_ * length_ + (r1 - r0) * (r1 - r0));
+  }
+}
+
+double TaperedCylinder::distance(const Eigen::Vector3d& point) const {
+  const Eigen::Vector3d offset = point - proximal_;
+  if (!(length_ > 0)) return offset.norm() - std::max(r0_, r1_);
+  const double axial = offset.dot(unit_);
+  const double radial = std::sqrt(std::max(offset.squaredNorm() - axial * axial, 0.0));
   // Nearest point of the profile segment (0, r0)-(length, r1) in the (axial, radial) plane.
-  const Eigen::Vector2d a(0, r0), b(length, r1), x(axial, radial);
-  const Eigen::Vector2d ab = b - a;
-  const double t = std::clamp((x - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-  const double distance = (x - (a + t * ab)).norm();
-  const bool inside = axial >= 0 && axial <= length && radial < r0 + (r1 - r0) * axial / length;
+  const double dr = r1_ - r0_, rx = radial - r0_;
+  const double t = std::clamp((axial * length_ + rx * dr) * inverse_profile_squared_, 0.0, 1.0);
+  const double ex = axial - t * length_, ey = rx - t * dr;
+  const double distance = std::sqrt(ex * ex + ey * ey);
+  const bool inside = axial >= 0 && axial <= length_ && radial < r0_ + slope_ * axial;
   return inside ? -distance : distance;
 }
 
-NearestSegment nearestSegment(const PosedModel& posed, const Eigen::Vector3d& point) {
+double taperedCylinderDistance(const Eigen::Vector3d& point, const Eigen::Vector3d& proximal,
+                               const Eigen::Vector3d& distal, double r0, double r1) {
+  return TaperedCylinder(proximal, distal, r0, r1).distance(point);
+}
+
+SegmentSurfaces segmentSurfaces(const PosedModel& posed) {
+  SegmentSurfaces surfaces;
+  for (int s = 0; s < kSegmentCount; ++s) surfaces[s] = TaperedCylinder(posed.segments[s]);
+  return surfaces;
+}
+
+NearestSegment nearestSegment(const SegmentSurfaces& surfaces, const Eigen::Vector3d& point) {
   NearestSegment nearest{0, std::numeric_limits<double>::infinity()};
   for (int s = 0; s < kSegmentCount; ++s) {
-    const PosedSegment& segment = posed.segments[s];
-    const double d = std::abs(taperedCylinderDistance(
-        point, segment.proximal, segment.distal, segment.proximal_radius, segment.distal_radius));
+    const double d = std::abs(surfaces[s].distance(point));
     if (d < nearest.distance) nearest = {s, d};
   }
   return nearest;
+}
+
+NearestSegment nearestSegment(const PosedModel& posed, const Eigen::Vector3d& point) {
+  return nearestSegment(segmentSurfaces(posed), point);
 }
 
 }  // namespace body_gait

@@ -5,6 +5,7 @@
 #include <ceres/ceres.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -34,12 +35,35 @@ BodyModel withParameters(const BodyModel& base, const double* p, const double* q
 
 void residualsOf(const BodyModel& model, const std::vector<AssignedPoint>& points,
                  double* residuals) {
-  const PosedModel posed = forwardKinematics(model);
-  for (size_t i = 0; i < points.size(); ++i) {
-    const PosedSegment& s = posed.segments[points[i].segment];
-    residuals[i] = taperedCylinderDistance(points[i].point, s.proximal, s.distal, s.proximal_radius,
-                                           s.distal_radius);
+  const SegmentSurfaces surfaces = segmentSurfaces(forwardKinematics(model));
+  for (size_t i = 0; i < points.size(); ++i)
+    residuals[i] = surfaces[points[i].segment].distance(points[i].point);
+}
+
+// True if segment lies in the subtree of root (root included).
+bool inSubtree(int segment, int root) {
+  for (int s = segment; s != kWholeBody; s = segmentInfo(s).parent)
+    if (s == root) return true;
+  return false;
+}
+
+// The segments whose surface moves with parameter k of a block (p: all; q and r: the joint's or
+// segment's subtree). Residuals of the others have zero derivative and are not recomputed.
+std::array<bool, kSegmentCount> movedBy(int block, int k) {
+  std::array<bool, kSegmentCount> moved{};
+  for (int s = 0; s < kSegmentCount; ++s) {
+    if (block == 0) {
+      moved[s] = true;
+    } else if (block == 1) {
+      for (int joint = 0; joint < kSegmentCount; ++joint)
+        if (jointAngleIndex(joint) >= 0 &&
+            (k == jointAngleIndex(joint) || k == jointAngleIndex(joint) + 1))
+          moved[s] = inSubtree(s, joint);
+    } else {
+      moved[s] = inSubtree(s, k);
+    }
   }
+  return moved;
 }
 
 class SurfaceDistanceCost : public ceres::CostFunction {
@@ -59,18 +83,21 @@ class SurfaceDistanceCost : public ceres::CostFunction {
     if (!jacobians) return true;
     constexpr double kStep = 1e-6;
     const int sizes[3] = {6, 22, 12};
-    std::vector<double> shifted(points_.size());
     for (int block = 0; block < 3; ++block) {
       if (!jacobians[block]) continue;
       for (int k = 0; k < sizes[block]; ++k) {
-        std::vector<double> copy[3] = {std::vector<double>(parameters[0], parameters[0] + 6),
-                                       std::vector<double>(parameters[1], parameters[1] + 22),
-                                       std::vector<double>(parameters[2], parameters[2] + 12)};
+        double copy[3][22];
+        for (int b = 0; b < 3; ++b) std::copy(parameters[b], parameters[b] + sizes[b], copy[b]);
         copy[block][k] += kStep;
-        residualsOf(withParameters(base_, copy[0].data(), copy[1].data(), copy[2].data()), points_,
-                    shifted.data());
-        for (size_t i = 0; i < points_.size(); ++i)
-          jacobians[block][i * sizes[block] + k] = (shifted[i] - residuals[i]) / kStep;
+        const SegmentSurfaces shifted =
+            segmentSurfaces(forwardKinematics(withParameters(base_, copy[0], copy[1], copy[2])));
+        const std::array<bool, kSegmentCount> moved = movedBy(block, k);
+        for (size_t i = 0; i < points_.size(); ++i) {
+          const int segment = points_[i].segment;
+          jacobians[block][i * sizes[block] + k] =
+              moved[segment] ? (shifted[segment].distance(points_[i].point) - residuals[i]) / kStep
+                             : 0.0;
+        }
       }
     }
     return true;
@@ -82,10 +109,10 @@ class SurfaceDistanceCost : public ceres::CostFunction {
 };
 
 std::vector<AssignedPoint> assign(const BodyModel& model, const Cloud& sample) {
-  const PosedModel posed = forwardKinematics(model);
+  const SegmentSurfaces surfaces = segmentSurfaces(forwardKinematics(model));
   std::vector<AssignedPoint> assigned;
   for (const auto& point : sample) {
-    const int best_segment = nearestSegment(posed, point).segment;
+    const int best_segment = nearestSegment(surfaces, point).segment;
     assigned.push_back({point, best_segment});
   }
   return assigned;

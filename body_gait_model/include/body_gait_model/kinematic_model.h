@@ -130,11 +130,31 @@ BodyModel clampToJointLimits(BodyModel model);
 double taperedCylinderDistance(const Eigen::Vector3d& point, const Eigen::Vector3d& proximal,
                                const Eigen::Vector3d& distal, double r0, double r1);
 
+// The same distance with the per-cylinder terms computed once (for many points: refinement,
+// quality); distance(p) == taperedCylinderDistance(p, proximal, distal, r0, r1).
+class TaperedCylinder {
+ public:
+  TaperedCylinder() = default;
+  TaperedCylinder(const Eigen::Vector3d& proximal, const Eigen::Vector3d& distal, double r0,
+                  double r1);
+  explicit TaperedCylinder(const PosedSegment& segment)
+      : TaperedCylinder(segment.proximal, segment.distal, segment.proximal_radius,
+                        segment.distal_radius) {}
+  double distance(const Eigen::Vector3d& point) const;
+
+ private:
+  Eigen::Vector3d proximal_ = Eigen::Vector3d::Zero(), unit_ = Eigen::Vector3d::Zero();
+  double length_ = 0, r0_ = 0, r1_ = 0, slope_ = 0, inverse_profile_squared_ = 0;
+};
+
 // The segment whose surface is nearest to `point`, with the unsigned distance to it.
 struct NearestSegment {
   int segment;
   double distance;
 };
+using SegmentSurfaces = std::array<TaperedCylinder, kSegmentCount>;
+SegmentSurfaces segmentSurfaces(const PosedModel& posed);
+NearestSegment nearestSegment(const SegmentSurfaces& surfaces, const Eigen::Vector3d& point);
 NearestSegment nearestSegment(const PosedModel& posed, const Eigen::Vector3d& point);
 
 }  // namespace body_gait
