@@ -90,8 +90,11 @@ deps:
 
 # build: configure the catkin workspace with cmake into build/ and build everything.
 # build/CATKIN_IGNORE keeps catkin from looking for packages inside build/.
+# The devel space's Python folder is made before configuring: catkin caches the test
+# environment (catkin_generated/setup_cached.sh) at configure time and leaves out folders that
+# do not exist yet, so a fresh clone's Python tests and nodes would not find our messages.
 build: deps
-	@mkdir -p $(BUILD_DIR) && touch $(BUILD_DIR)/CATKIN_IGNORE
+	@mkdir -p $(BUILD_DIR)/devel/lib/python3/dist-packages && touch $(BUILD_DIR)/CATKIN_IGNORE
 	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(CMAKE_BUILD_TYPE) \
 	  -DPYTHON_EXECUTABLE=$(PY) -DCATKIN_DEVEL_PREFIX=$(BUILD_DIR)/devel \
 	  -DCATKIN_ENABLE_TESTING=ON
