@@ -1,5 +1,6 @@
 #include <body_gait_model/ros/body_model_msg.h>
 #include <body_gait_model/urdf.h>
+#include <body_scan_driver/ros/conversions.h>
 
 #include <cmath>
 #include <cstring>
@@ -85,21 +86,8 @@ Cloud cloudFromMsg(const sensor_msgs::PointCloud2& msg) {
 sensor_msgs::PointCloud2 cloudToMsg(const Cloud& cloud, const std_msgs::Header& header) {
   sensor_msgs::PointCloud2 msg;
   msg.header = header;
-  msg.height = 1;
-  msg.width = static_cast<uint32_t>(cloud.size());
-  const char* names[3] = {"x", "y", "z"};
-  for (uint32_t i = 0; i < 3; ++i) {
-    sensor_msgs::PointField field;
-    field.name = names[i];
-    field.offset = 4 * i;
-    field.datatype = sensor_msgs::PointField::FLOAT32;
-    field.count = 1;
-    msg.fields.push_back(field);
-  }
-  msg.point_step = 12;
-  msg.row_step = msg.point_step * msg.width;
+  body_scan::layoutFloatCloud(msg, static_cast<uint32_t>(cloud.size()), 1, /*rgb=*/false);
   msg.is_dense = true;
-  msg.data.resize(msg.row_step);
   float* out = reinterpret_cast<float*>(msg.data.data());
   for (const auto& p : cloud)
     for (int i = 0; i < 3; ++i) *out++ = static_cast<float>(p[i]);

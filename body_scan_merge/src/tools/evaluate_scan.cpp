@@ -59,13 +59,6 @@ int main(int argc, char** argv) {
       body_scan::writePly(outliers_path, outliers.data(), outliers.size() / 4, 4, 3);
       std::cout << accuracy.outliers << " outliers written to " << outliers_path << "\n";
     }
-    if (!outliers_path.empty()) {
-      std::vector<float> outliers;
-      for (size_t k : accuracy.outlier_indices)
-        outliers.insert(outliers.end(), cloud.begin() + 4 * k, cloud.begin() + 4 * k + 4);
-      body_scan::writePly(outliers_path, outliers.data(), outliers.size() / 4, 4, 3);
-      std::cout << accuracy.outliers << " outliers written to " << outliers_path << "\n";
-    }
     if (!report_path.empty()) {
       body_scan::eval::writeAccuracyReport(report_path, accuracy, cloud_path + " vs " + scene_path);
       std::cout << "report written to " << report_path << "\n";
