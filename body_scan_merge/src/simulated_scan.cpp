@@ -19,14 +19,18 @@ TimingGroupList eachPairAlone(const sim::Rig& rig) {
 
 TimingGroupList allPairsTogether(const sim::Rig& rig) { return {rig.pairIds()}; }
 
-TimingGroupList plannedTimingGroups(const sim::Rig& rig) {
+std::vector<PairGeometry> rigFactoryGeometry(const sim::Rig& rig) {
   auto empty = std::make_shared<sim::Scene>();
   std::vector<PairGeometry> pairs;
   for (const auto& config : rig.pairs)
     pairs.push_back({config.pair_id,
                      sim::VirtualPair::projectorOnly(config, empty).factoryCalibration(),
                      config.world_from_camera});
-  return planTimingGroups(pairs).groups;
+  return pairs;
+}
+
+TimingGroupList plannedTimingGroups(const sim::Rig& rig) {
+  return planTimingGroups(rigFactoryGeometry(rig)).groups;
 }
 
 TimingGroupList loadTimingGroups(const std::string& path) {
@@ -51,7 +55,8 @@ TimingGroupList loadTimingGroups(const std::string& path) {
 }
 
 SimulatedScan simulateScan(const sim::Rig& rig, const std::shared_ptr<const sim::Scene>& scene,
-                           const TimingGroupList& groups, uint32_t scan_id) {
+                           const TimingGroupList& groups, uint32_t scan_id,
+                           const MergeOptions& merge) {
   std::map<std::string, int> seen;
   for (const auto& group : groups)
     for (const auto& id : group) {
@@ -74,8 +79,8 @@ SimulatedScan simulateScan(const sim::Rig& rig, const std::shared_ptr<const sim:
     return nullptr;
   };
 
-  std::map<std::string, size_t> counts;
-  SimulatedScan scan;
+  // Each pair's organized cloud (x y z, NaN = none), kept until the merge, in rig order.
+  std::map<std::string, std::vector<float>> clouds;
   for (const auto& group : groups) {
     std::vector<const sim::VirtualPair*> members;
     for (const auto& id : group) members.push_back(projector(id));
@@ -87,21 +92,20 @@ SimulatedScan simulateScan(const sim::Rig& rig, const std::shared_ptr<const sim:
       const sim::RenderedPatternSet set = pair.render(scan_id, others);
       StripeImage decoded;
       StripeDecoder(pair.layout()).decode(set.frames, decoded);
-      const Triangulator triangulator(pair.factoryCalibration());
-      std::vector<float> xyz(3 * decoded.coordinate.total());
-      triangulator.triangulate(decoded.coordinate, xyz.data(), 3);
-      const Eigen::Isometry3f world_from_camera = pair.config().world_from_camera.cast<float>();
-      size_t count = 0;
-      for (size_t i = 0; i < decoded.coordinate.total(); ++i) {
-        const Eigen::Vector3f p(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
-        if (!p.allFinite()) continue;
-        scan.points.push_back(world_from_camera * p);
-        ++count;
-      }
-      counts[id] = count;
+      std::vector<float>& xyz = clouds[id];
+      xyz.resize(3 * decoded.coordinate.total());
+      Triangulator(pair.factoryCalibration()).triangulate(decoded.coordinate, xyz.data(), 3);
     }
   }
-  for (const auto& id : rig.pairIds()) scan.per_pair.emplace_back(id, counts[id]);
+  std::vector<CloudView> views;
+  for (const auto& config : rig.pairs) {
+    const std::vector<float>& xyz = clouds.at(config.pair_id);
+    views.push_back(CloudView{xyz.data(), xyz.size() / 3, 3, -1, config.world_from_camera});
+  }
+  SimulatedScan scan;
+  scan.cloud = mergeClouds(views, merge);
+  for (size_t i = 0; i < rig.pairs.size(); ++i)
+    scan.per_pair.emplace_back(rig.pairs[i].pair_id, scan.cloud.valid_per_part[i]);
   return scan;
 }
 

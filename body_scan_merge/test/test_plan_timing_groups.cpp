@@ -3,6 +3,7 @@
 // (else from the rig file) and reports the library's groups and conflicts.
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/sim/rig.h>
+#include <body_scan_merge/simulated_scan.h>
 #include <body_scan_merge/timing_groups.h>
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
@@ -46,14 +47,9 @@ TEST(PlanTimingGroups, ReportsTheLibrarysPlanWithPosesFromAlignmentOrRig) {
       fs::temp_directory_path() / ("plan_timing_groups_" + std::to_string(getpid()));
   fs::create_directories(dir);
   const sim::Rig rig = sim::loadRig(kRig);
-  auto empty = std::make_shared<sim::Scene>();
-  std::vector<PairGeometry> truth;
-  for (const auto& config : rig.pairs) {
-    const PairCalibration calibration =
-        sim::VirtualPair::projectorOnly(config, empty).factoryCalibration();
-    saveCalibration((dir / (fileStem(config.pair_id) + "_factory.yaml")).string(), calibration);
-    truth.push_back({config.pair_id, calibration, config.world_from_camera});
-  }
+  const std::vector<PairGeometry> truth = rigFactoryGeometry(rig);
+  for (const PairGeometry& pair : truth)
+    saveCalibration((dir / (fileStem(pair.pair_id) + "_factory.yaml")).string(), pair.calibration);
 
   // Factory files carry no alignment: poses from the rig file.
   const auto [status, report] = plan(dir, "_factory");

@@ -1,5 +1,6 @@
 // The simulated full scan of the default rig at core level (every pair rendered by its timing
-// group, decoded, triangulated with the factory calibration, moved to the world) against the
+// group, decoded, triangulated with the factory calibration, merged as the Merge nodelet does)
+// against the
 // true surface (eval::evaluateScan): issue 4's targets, and what interference does.
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_merge/eval/scan_accuracy.h>
@@ -12,10 +13,7 @@ namespace {
 const std::string kDriverConfig = BODY_SCAN_DRIVER_CONFIG_DIR;
 
 eval::ScanAccuracy evaluate(const SimulatedScan& scan, const sim::Scene& scene) {
-  std::vector<float> cloud;  // x y z rgb, as the merge writes them
-  cloud.reserve(4 * scan.points.size());
-  for (const auto& p : scan.points) cloud.insert(cloud.end(), {p.x(), p.y(), p.z(), 0.f});
-  return eval::evaluateScan(cloud, scene);
+  return eval::evaluateScan(scan.cloud.xyzrgb, scene);
 }
 
 void print(const std::string& what, const eval::ScanAccuracy& a) {

@@ -4,6 +4,7 @@
 #include <body_scan_driver/sim/decoding_errors.h>
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_driver/stripe_decoder.h>
+#include <body_scan_merge/simulated_scan.h>
 #include <body_scan_merge/timing_groups.h>
 #include <gtest/gtest.h>
 
@@ -17,13 +18,9 @@ namespace {
 const std::string kDriverConfig = BODY_SCAN_DRIVER_CONFIG_DIR;
 
 std::vector<PairGeometry> geometryOf(const std::vector<sim::VirtualPairConfig>& configs) {
-  auto empty = std::make_shared<sim::Scene>();
-  std::vector<PairGeometry> pairs;
-  for (const auto& config : configs)
-    pairs.push_back({config.pair_id,
-                     sim::VirtualPair::projectorOnly(config, empty).factoryCalibration(),
-                     config.world_from_camera});
-  return pairs;
+  sim::Rig rig;
+  rig.pairs = configs;
+  return rigFactoryGeometry(rig);
 }
 
 sim::VirtualPairConfig pairAt(const std::string& id, const Eigen::Vector3d& position) {

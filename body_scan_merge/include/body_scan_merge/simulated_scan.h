@@ -1,10 +1,12 @@
 // A whole-body scan of a simulated rig at core level (no ROS): every pair of the rig renders
 // the scene by timing groups (members' light interfering, thesis 4.3), is decoded
 // (StripeDecoder), triangulated with its factory calibration (Triangulator) and moved to the
-// world frame: the cloud the full scanner would merge, without cropping or filtering.
+// world frame, then merged exactly as the Merge nodelet does (mergeClouds: crop, voxel grid).
 #pragma once
 
-#include <Eigen/Core>
+#include <body_scan_merge/cloud_merge.h>
+#include <body_scan_merge/timing_groups.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -19,9 +21,13 @@ struct Rig;
 }  // namespace sim
 
 struct SimulatedScan {
-  std::vector<Eigen::Vector3f> points;                   // world frame
-  std::vector<std::pair<std::string, size_t>> per_pair;  // points of each pair, rig order
+  MergedCloud cloud;                                     // world frame, x y z rgb
+  std::vector<std::pair<std::string, size_t>> per_pair;  // valid points of each pair, rig order
 };
+
+// Every pair of the rig with its factory calibration (the simulator's true geometry) and pose:
+// what the timing groups of a simulated rig are planned from.
+std::vector<PairGeometry> rigFactoryGeometry(const sim::Rig& rig);
 
 // Groups of pair ids projecting at the same time. Every pair of the rig must be in exactly one
 // group; throws std::invalid_argument naming the pair otherwise.
@@ -34,6 +40,7 @@ TimingGroupList plannedTimingGroups(const sim::Rig& rig);
 TimingGroupList loadTimingGroups(const std::string& path);
 
 SimulatedScan simulateScan(const sim::Rig& rig, const std::shared_ptr<const sim::Scene>& scene,
-                           const TimingGroupList& groups, uint32_t scan_id = 1);
+                           const TimingGroupList& groups, uint32_t scan_id = 1,
+                           const MergeOptions& merge = {});
 
 }  // namespace body_scan

@@ -50,11 +50,10 @@ int main(int argc, char** argv) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const std::string& out = args["--output"];
     const bool pcd = out.size() > 4 && out.substr(out.size() - 4) == ".pcd";
-    const float* data = scan.points.empty() ? nullptr : scan.points.front().data();
-    (pcd ? writePcd : writePly)(out, data, scan.points.size(), 3, -1);
+    (pcd ? writePcd : writePly)(out, scan.cloud.xyzrgb.data(), scan.cloud.size(), 4, 3);
     std::cout << "timing groups: " << groups.size() << "\n";
     for (const auto& [id, count] : scan.per_pair) std::cout << "  " << id << ": " << count << "\n";
-    std::cout << scan.points.size() << " points in " << seconds << " s -> " << out << "\n";
+    std::cout << scan.cloud.size() << " points in " << seconds << " s -> " << out << "\n";
   } catch (const std::exception& e) {
     std::cerr << "simulate_scan: " << e.what() << "\n";
     return 1;
