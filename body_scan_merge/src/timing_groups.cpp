@@ -176,15 +176,18 @@ std::vector<std::vector<int>> minimumGroups(const std::vector<std::vector<bool>>
     for (int b = 0; b < n; ++b) degree[a] += a != b && adjacent(a, b);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return degree[a] > degree[b]; });
   std::vector<int> colour(n, -1);
+  // Whether colour c is free for the pair: no conflicting pair has it yet.
+  auto fits = [&](int pair, int c) {
+    for (int other = 0; other < n; ++other)
+      if (colour[other] == c && adjacent(pair, other)) return false;
+    return true;
+  };
   std::function<bool(int, int, int)> assign = [&](int position, int k, int used) {
     if (position == n) return true;
     const int pair = order[position];
     // A new colour only as the next unused one (symmetry breaking).
     for (int c = 0; c < std::min(k, used + 1); ++c) {
-      bool free = true;
-      for (int other = 0; other < n && free; ++other)
-        free = !(colour[other] == c && adjacent(pair, other));
-      if (!free) continue;
+      if (!fits(pair, c)) continue;
       colour[pair] = c;
       if (assign(position + 1, k, std::max(used, c + 1))) return true;
       colour[pair] = -1;
@@ -219,10 +222,7 @@ std::vector<std::vector<int>> minimumGroups(const std::vector<std::vector<bool>>
     }
     const int pair = order[position];
     for (int c = 0; c < std::min(k, used + 1); ++c) {
-      bool free = true;
-      for (int other = 0; other < n && free; ++other)
-        free = !(colour[other] == c && adjacent(pair, other));
-      if (!free) continue;
+      if (!fits(pair, c)) continue;
       colour[pair] = c;
       ++sizes[c];
       balance(position + 1, std::max(used, c + 1), partial + 2 * sizes[c] - 1);
