@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
+#include <algorithm>
 #include <map>
 #include <mutex>
 #include <set>
@@ -26,6 +27,13 @@ struct PatternSets {
             std::lock_guard<std::mutex> lock(mutex);
             scan_ids[set->pair_id].insert(set->scan_id);
           }));
+    // A set published before the connection is made is lost: a scan that needs no planning
+    // (all_at_once) answers within milliseconds of the subscription.
+    for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10.0);
+         ros::WallTime::now() < end; ros::WallDuration(0.02).sleep())
+      if (std::all_of(subscribers.begin(), subscribers.end(),
+                      [](const ros::Subscriber& s) { return s.getNumPublishers() > 0; }))
+        break;
   }
   // Waits (at most 10 s) until every present pair published a set with this scan id.
   bool allHave(uint32_t scan_id) {
