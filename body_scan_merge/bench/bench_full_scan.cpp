@@ -60,11 +60,13 @@ void forEachPairOnTwoThreads(size_t pairs, Work work) {
   second.join();
 }
 
+// One merger for the whole run, as the Merge nodelet keeps one from scan to scan.
 MergedCloud merge(const RigScan& s, const MergeOptions& options = {}) {
+  static CloudMerger merger;
   std::vector<CloudView> views;
   for (size_t i = 0; i < s.clouds.size(); ++i)
     views.push_back(CloudView{s.clouds[i].data(), 640 * 480, 4, 3, s.poses[i]});
-  return mergeClouds(views, options);
+  return merger.merge(views, options);
 }
 
 void decodeTriangulateOurs(RigScan& s) {

@@ -20,6 +20,14 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// Runs work(0) on a second thread and work(1) on this one.
+template <typename Work>
+void onTwoThreads(Work work) {
+  std::thread second([&] { work(0); });
+  work(1);
+  second.join();
+}
+
 pcl::PointCloud<pcl::PointXYZRGB>::Ptr toPcl(const std::vector<float>& xyzrgb) {
   pcl::PointCloud<pcl::PointXYZRGB>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZRGB>);
   cloud->resize(xyzrgb.size() / 4);
@@ -41,20 +49,6 @@ void fromPcl(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, std::vector<float>&
   }
 }
 
-// Stable LSD radix sort of (key << 32 | index) values by their key (the upper 32 bits).
-void sortByKey(std::vector<uint64_t>& values) {
-  uint64_t largest = 0;
-  for (uint64_t v : values) largest = std::max(largest, v >> 32);
-  std::vector<uint64_t> scratch(values.size());
-  for (int shift = 32; shift < 64 && (largest >> (shift - 32)) > 0; shift += 8) {
-    size_t count[257] = {};
-    for (uint64_t v : values) ++count[((v >> shift) & 0xFF) + 1];
-    for (int i = 0; i < 256; ++i) count[i + 1] += count[i];
-    for (uint64_t v : values) scratch[count[(v >> shift) & 0xFF]++] = v;
-    values.swap(scratch);
-  }
-}
-
 void pclVoxelGrid(std::vector<float>& xyzrgb, double leaf) {
   pcl::VoxelGrid<pcl::PointXYZRGB> grid;
   grid.setInputCloud(toPcl(xyzrgb));
@@ -65,127 +59,225 @@ void pclVoxelGrid(std::vector<float>& xyzrgb, double leaf) {
   fromPcl(filtered, xyzrgb);
 }
 
+void concatenate(const std::vector<CloudMerger::Points>& parts, std::vector<float>& xyzrgb) {
+  size_t total = 0;
+  for (const auto& part : parts) total += part.count;
+  xyzrgb.resize(4 * total);
+  float* out = xyzrgb.data();
+  for (const auto& part : parts) out = std::copy(part.xyzrgb, part.xyzrgb + 4 * part.count, out);
+}
+
+// The mean of n packed rgb colours summed per channel (floats, as PCL).
+float meanColour(float r, float g, float b, float n) {
+  const uint32_t rgb = (static_cast<uint32_t>(r / n) << 16) | (static_cast<uint32_t>(g / n) << 8) |
+                       static_cast<uint32_t>(b / n);
+  float packed;
+  std::memcpy(&packed, &rgb, sizeof packed);
+  return packed;
+}
+
 }  // namespace
 
-void voxelGrid(std::vector<float>& xyzrgb, double leaf) {
-  const size_t n = xyzrgb.size() / 4;
-  if (n == 0) return;
-  const float inverse = static_cast<float>(1.0 / leaf);  // PCL works in float, so do we
-  Eigen::Array3f min_p = Eigen::Array3f::Constant(std::numeric_limits<float>::max());
-  Eigen::Array3f max_p = -min_p;
-  for (size_t i = 0; i < n; ++i) {
-    const Eigen::Array3f p(xyzrgb[4 * i], xyzrgb[4 * i + 1], xyzrgb[4 * i + 2]);
-    min_p = min_p.min(p), max_p = max_p.max(p);
+// The voxel keys are PCL's (z-major, 32 bits). Sorting them all at once would scatter the whole
+// cloud through memory several times, and the centroids would then gather points at random; a
+// scan's points are instead bucketed once by the upper bits of their key (a few hundred points
+// per bucket, in input order), and each bucket is sorted and reduced in cache. The buckets are
+// ranges of keys, so their outputs concatenate in key order.
+void CloudMerger::voxelGrid(const std::vector<Points>& parts, double leaf,
+                            std::vector<float>& xyzrgb) {
+  Bounds bounds[2];
+  onTwoThreads([&](int t) {
+    for (size_t part = t; part < parts.size(); part += 2)
+      for (size_t i = 0; i < parts[part].count; ++i)
+        bounds[t].add(Eigen::Map<const Eigen::Array3f>(parts[part].xyzrgb + 4 * i));
+  });
+  bounds[0].add(bounds[1]);
+  voxelGrid(parts, leaf, bounds[0], xyzrgb);
+}
+
+void CloudMerger::voxelGrid(const std::vector<Points>& parts, double leaf, const Bounds& bounds,
+                            std::vector<float>& xyzrgb) {
+  constexpr size_t kChunk = size_t{1} << 16;  // points per unit of work
+  struct Chunk {
+    const float* xyzrgb;
+    size_t count, first;  // first: index of its first point in the whole cloud
+  };
+  std::vector<Chunk> chunks;
+  size_t n = 0;
+  for (const Points& part : parts)
+    for (size_t begin = 0; begin < part.count; begin += kChunk) {
+      chunks.push_back({part.xyzrgb + 4 * begin, std::min(kChunk, part.count - begin), n});
+      n += chunks.back().count;
+    }
+  if (n == 0) {
+    xyzrgb.clear();
+    return;
   }
-  const Eigen::Array3i min_b = (min_p * inverse).floor().cast<int>();
-  const Eigen::Array3i max_b = (max_p * inverse).floor().cast<int>();
+  const float inverse = static_cast<float>(1.0 / leaf);  // PCL works in float, so do we
+  const Eigen::Array3i min_b = (bounds.min * inverse).floor().cast<int>();
+  const Eigen::Array3i max_b = (bounds.max * inverse).floor().cast<int>();
   const Eigen::Array3i divisions = max_b - min_b + 1;
   if (static_cast<double>(divisions.x()) * divisions.y() * divisions.z() > 4.2e9) {
+    concatenate(parts, xyzrgb);
     pclVoxelGrid(xyzrgb, leaf);  // a key would not fit 32 bits: PCL warns and copies
     return;
   }
-  const uint64_t stride_y = static_cast<uint64_t>(divisions.x());
-  const uint64_t stride_z = stride_y * static_cast<uint64_t>(divisions.y());
-  // Keys are z-major: the lower and upper halves of the z range are independent, one per
-  // thread, and their outputs concatenate in key order.
-  const uint64_t split = stride_z * static_cast<uint64_t>(divisions.z() / 2);
-  std::vector<uint64_t> halves[2];
-  halves[0].reserve(n / 2 + n / 8), halves[1].reserve(n / 2 + n / 8);
-  for (size_t i = 0; i < n; ++i) {
-    const Eigen::Array3i b =
-        (Eigen::Array3f(xyzrgb[4 * i], xyzrgb[4 * i + 1], xyzrgb[4 * i + 2]) * inverse)
-            .floor()
-            .cast<int>() -
-        min_b;
-    const uint64_t key = b.x() + b.y() * stride_y + b.z() * stride_z;
-    halves[key >= split].push_back((key << 32) | i);
-  }
-  std::vector<float> out[2];
-  auto reduce = [&](int half) {
-    std::vector<uint64_t>& keyed = halves[half];
-    sortByKey(keyed);
-    out[half].reserve(4 * keyed.size());
-    for (size_t first = 0; first < keyed.size();) {
-      size_t last = first;
-      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-      float r = 0, g = 0, b = 0;
-      for (; last < keyed.size() && (keyed[last] >> 32) == (keyed[first] >> 32); ++last) {
-        const size_t i = keyed[last] & 0xFFFFFFFFu;
-        sum += Eigen::Vector3f(xyzrgb[4 * i], xyzrgb[4 * i + 1], xyzrgb[4 * i + 2]);
-        uint32_t rgb;
-        std::memcpy(&rgb, &xyzrgb[4 * i + 3], sizeof rgb);
-        r += (rgb >> 16) & 0xFF, g += (rgb >> 8) & 0xFF, b += rgb & 0xFF;
+  const uint32_t stride_y = static_cast<uint32_t>(divisions.x());
+  const uint32_t stride_z = stride_y * static_cast<uint32_t>(divisions.y());
+  const uint32_t max_key = static_cast<uint32_t>(divisions.x() - 1) +
+                           static_cast<uint32_t>(divisions.y() - 1) * stride_y +
+                           static_cast<uint32_t>(divisions.z() - 1) * stride_z;
+  // About 256 points per bucket if they were spread evenly over the key range.
+  const size_t wanted_buckets = std::clamp<size_t>(n / 256, 1, size_t{1} << 16);
+  int shift = 0;
+  while ((static_cast<size_t>(max_key) >> shift) + 1 > wanted_buckets) ++shift;
+  const size_t buckets = (static_cast<size_t>(max_key) >> shift) + 1;
+
+  // Keys and, per chunk, how many of its points fall in each bucket.
+  keys_.resize(n);
+  bucket_offsets_.assign(chunks.size() * buckets, 0);
+  onTwoThreads([&](int t) {
+    for (size_t c = t; c < chunks.size(); c += 2) {
+      size_t* count = &bucket_offsets_[c * buckets];
+      uint32_t* key = &keys_[chunks[c].first];
+      for (size_t i = 0; i < chunks[c].count; ++i) {
+        const Eigen::Array3i b =
+            (Eigen::Map<const Eigen::Array3f>(chunks[c].xyzrgb + 4 * i) * inverse)
+                .floor()
+                .cast<int>() -
+            min_b;
+        key[i] = static_cast<uint32_t>(b.x()) + static_cast<uint32_t>(b.y()) * stride_y +
+                 static_cast<uint32_t>(b.z()) * stride_z;
+        ++count[key[i] >> shift];
       }
-      const float count = static_cast<float>(last - first);
-      const uint32_t rgb = (static_cast<uint32_t>(r / count) << 16) |
-                           (static_cast<uint32_t>(g / count) << 8) |
-                           static_cast<uint32_t>(b / count);
-      float packed;
-      std::memcpy(&packed, &rgb, sizeof packed);
-      out[half].insert(out[half].end(),
-                       {sum.x() / count, sum.y() / count, sum.z() / count, packed});
-      first = last;
     }
-  };
-  std::thread upper(reduce, 1);
-  reduce(0);
-  upper.join();
-  out[0].insert(out[0].end(), out[1].begin(), out[1].end());
-  xyzrgb.swap(out[0]);
+  });
+  // Where each chunk's points of each bucket go: buckets in key order, within a bucket the
+  // chunks in input order (so a voxel's points keep their input order, as in PCL's stable sort).
+  std::vector<size_t> bucket_start(buckets + 1);
+  size_t position = 0;
+  for (size_t b = 0; b < buckets; ++b) {
+    bucket_start[b] = position;
+    for (size_t c = 0; c < chunks.size(); ++c) {
+      const size_t count = bucket_offsets_[c * buckets + b];
+      bucket_offsets_[c * buckets + b] = position;
+      position += count;
+    }
+  }
+  bucket_start[buckets] = position;
+  records_.resize(n);
+  onTwoThreads([&](int t) {
+    for (size_t c = t; c < chunks.size(); c += 2) {
+      size_t* next = &bucket_offsets_[c * buckets];
+      const uint32_t* key = &keys_[chunks[c].first];
+      for (size_t i = 0; i < chunks[c].count; ++i) {
+        Record& record = records_[next[key[i] >> shift]++];
+        record.key = key[i];
+        std::memcpy(record.xyzrgb, chunks[c].xyzrgb + 4 * i, sizeof record.xyzrgb);
+      }
+    }
+  });
+
+  // Each thread sorts and reduces about half of the points: the buckets below / from `split`.
+  const size_t split = static_cast<size_t>(
+      std::lower_bound(bucket_start.begin(), bucket_start.end(), n / 2) - bucket_start.begin());
+  std::vector<float> upper;
+  onTwoThreads([&](int t) {
+    std::vector<float>& out = t == 0 ? upper : xyzrgb;
+    out.clear();
+    // key << 32 | index in the bucket, sorted by a stable LSD radix sort of the key's bits
+    // below `shift` (the bits above are the bucket's): ties keep input order.
+    std::vector<uint64_t> order, scratch;
+    const size_t first = t == 0 ? split : 0, last = t == 0 ? buckets : split;
+    for (size_t b = first; b < last; ++b) {
+      const Record* bucket = &records_[bucket_start[b]];
+      const size_t size = bucket_start[b + 1] - bucket_start[b];
+      order.resize(size), scratch.resize(size);
+      for (size_t i = 0; i < size; ++i) order[i] = (uint64_t{bucket[i].key} << 32) | i;
+      for (int digit = 32; digit < 32 + shift && size > 1; digit += 8) {
+        uint32_t count[257] = {};
+        for (const uint64_t v : order) ++count[((v >> digit) & 0xFF) + 1];
+        for (int i = 0; i < 256; ++i) count[i + 1] += count[i];
+        for (const uint64_t v : order) scratch[count[(v >> digit) & 0xFF]++] = v;
+        order.swap(scratch);
+      }
+      for (size_t begin = 0; begin < size;) {
+        const uint64_t voxel = order[begin] >> 32;
+        Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+        float r = 0, g = 0, b = 0;
+        size_t end = begin;
+        for (; end < size && (order[end] >> 32) == voxel; ++end) {
+          const float* p = bucket[order[end] & 0xFFFFFFFFu].xyzrgb;
+          sum += Eigen::Vector3f(p[0], p[1], p[2]);
+          uint32_t rgb;
+          std::memcpy(&rgb, &p[3], sizeof rgb);
+          r += (rgb >> 16) & 0xFF, g += (rgb >> 8) & 0xFF, b += rgb & 0xFF;
+        }
+        const float count = static_cast<float>(end - begin);
+        out.insert(out.end(),
+                   {sum.x() / count, sum.y() / count, sum.z() / count, meanColour(r, g, b, count)});
+        begin = end;
+      }
+    }
+  });
+  xyzrgb.insert(xyzrgb.end(), upper.begin(), upper.end());
 }
 
-MergedCloud mergeClouds(const std::vector<CloudView>& parts, const MergeOptions& options) {
+void voxelGrid(std::vector<float>& xyzrgb, double leaf) {
+  const std::vector<float> input = std::move(xyzrgb);
+  CloudMerger().voxelGrid({{input.data(), input.size() / 4}}, leaf, xyzrgb);
+}
+
+MergedCloud CloudMerger::merge(const std::vector<CloudView>& parts, const MergeOptions& options) {
   MergedCloud merged;
   auto start = Clock::now();
   const float radius2 = static_cast<float>(options.crop_radius * options.crop_radius);
-  const float white = [] {
-    const uint32_t rgb = 0xFFFFFF;
-    float value;
-    std::memcpy(&value, &rgb, sizeof value);
-    return value;
-  }();
-  // Each part into its own buffer (2 threads), then concatenated in part order.
-  std::vector<std::vector<float>> kept(parts.size());
+  const auto min_z = static_cast<float>(options.crop_min_z);
+  const auto max_z = static_cast<float>(options.crop_max_z);
+  const float white = meanColour(255, 255, 255, 1);
+  // Each part into its own buffer (2 threads), kept for the next scan.
+  if (kept_.size() < parts.size()) kept_.resize(parts.size());
+  std::vector<Points> in_volume(parts.size());
+  std::vector<Bounds> bounds(parts.size());
   merged.valid_per_part.assign(parts.size(), 0);
   merged.in_volume_per_part.assign(parts.size(), 0);
-  auto transform = [&](size_t index) {
-    const CloudView& part = parts[index];
-    const Eigen::Matrix3f rotation = part.world_from_cloud.linear().cast<float>();
-    const Eigen::Vector3f translation = part.world_from_cloud.translation().cast<float>();
-    std::vector<float>& out = kept[index];
-    out.reserve(4 * part.count / 2);
-    size_t valid = 0;
-    for (size_t i = 0; i < part.count; ++i) {
-      const float* p = part.points + i * part.stride;
-      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) continue;
-      ++valid;
-      const Eigen::Vector3f w = rotation * Eigen::Vector3f(p[0], p[1], p[2]) + translation;
-      if (w.x() * w.x() + w.y() * w.y() > radius2 || w.z() < options.crop_min_z ||
-          w.z() > options.crop_max_z)
-        continue;
-      out.insert(out.end(),
-                 {w.x(), w.y(), w.z(), part.rgb_offset >= 0 ? p[part.rgb_offset] : white});
+  onTwoThreads([&](int t) {
+    for (size_t index = t; index < parts.size(); index += 2) {
+      const CloudView& part = parts[index];
+      const Eigen::Matrix3f rotation = part.world_from_cloud.linear().cast<float>();
+      const Eigen::Vector3f translation = part.world_from_cloud.translation().cast<float>();
+      if (kept_[index].size() < 4 * part.count) kept_[index].resize(4 * part.count);
+      float* out = kept_[index].data();
+      size_t valid = 0, kept = 0;
+      for (size_t i = 0; i < part.count; ++i) {
+        const float* p = part.points + i * part.stride;
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) continue;
+        ++valid;
+        const Eigen::Vector3f w = rotation * Eigen::Vector3f(p[0], p[1], p[2]) + translation;
+        if (w.x() * w.x() + w.y() * w.y() > radius2 || w.z() < min_z || w.z() > max_z) continue;
+        float* o = out + 4 * kept++;
+        o[0] = w.x(), o[1] = w.y(), o[2] = w.z();
+        bounds[index].add(w.array());
+        o[3] = part.rgb_offset >= 0 ? p[part.rgb_offset] : white;
+      }
+      merged.valid_per_part[index] = valid;
+      merged.in_volume_per_part[index] = kept;
+      in_volume[index] = {out, kept};
     }
-    merged.valid_per_part[index] = valid;
-    merged.in_volume_per_part[index] = out.size() / 4;
-  };
-  std::thread second([&] {
-    for (size_t i = 1; i < parts.size(); i += 2) transform(i);
   });
-  for (size_t i = 0; i < parts.size(); i += 2) transform(i);
-  second.join();
-  size_t total = 0;
-  for (const auto& part : kept) total += part.size();
-  merged.xyzrgb.reserve(total);
-  for (const auto& part : kept) merged.xyzrgb.insert(merged.xyzrgb.end(), part.begin(), part.end());
+  const bool ours = options.voxel_leaf > 0 && options.voxel_grid == MergeOptions::VoxelGrid::kOurs;
+  if (!ours) concatenate(in_volume, merged.xyzrgb);
   merged.stage_seconds.emplace_back("transform+crop", secondsSince(start));
 
-  if (options.voxel_leaf > 0 && merged.size() > 0) {
+  if (options.voxel_leaf > 0) {
     start = Clock::now();
-    if (options.voxel_grid == MergeOptions::VoxelGrid::kPcl)
+    if (ours) {
+      Bounds all;
+      for (const Bounds& part : bounds) all.add(part);
+      voxelGrid(in_volume, options.voxel_leaf, all, merged.xyzrgb);
+    } else {
       pclVoxelGrid(merged.xyzrgb, options.voxel_leaf);
-    else
-      voxelGrid(merged.xyzrgb, options.voxel_leaf);
+    }
     merged.stage_seconds.emplace_back("voxel", secondsSince(start));
   }
   if (options.outlier_removal && merged.size() > static_cast<size_t>(options.outlier_neighbours)) {
@@ -200,6 +292,10 @@ MergedCloud mergeClouds(const std::vector<CloudView>& parts, const MergeOptions&
     merged.stage_seconds.emplace_back("outliers", secondsSince(start));
   }
   return merged;
+}
+
+MergedCloud mergeClouds(const std::vector<CloudView>& parts, const MergeOptions& options) {
+  return CloudMerger().merge(parts, options);
 }
 
 }  // namespace body_scan

@@ -5,6 +5,8 @@
 
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,7 +22,7 @@ struct MergeOptions {
   // Voxel grid leaf (m); 0 = off. Neighbouring pairs overlap, doubling the density there; one
   // point per voxel evens it out (the centroid of the voxel's points and colours).
   double voxel_leaf = 0.0015;
-  // Our voxel grid (radix sort of the voxel keys, the same grid and centroids as PCL's
+  // Our voxel grid (bucketed sort of the voxel keys, the same grid and centroids as PCL's
   // VoxelGrid, several times faster) or PCL's own (the peer in tests and benchmarks).
   enum class VoxelGrid { kOurs, kPcl };
   VoxelGrid voxel_grid = VoxelGrid::kOurs;
@@ -50,13 +52,48 @@ struct MergedCloud {
   size_t size() const { return xyzrgb.size() / 4; }
 };
 
-// Deterministic: the same parts in the same order give the same cloud, bit for bit. The parts
-// are transformed on 2 threads.
+// The merge with its working buffers kept from one scan to the next (the Merge nodelet keeps
+// one): a scan's tens of megabytes are not allocated and page-faulted in again every time.
+// Deterministic: the same parts in the same order give the same cloud, bit for bit, on 2
+// threads. Not thread-safe: one merge at a time per CloudMerger.
+class CloudMerger {
+ public:
+  MergedCloud merge(const std::vector<CloudView>& parts, const MergeOptions& options);
+
+  // One point per occupied voxel of a grid of `leaf` anchored like PCL's VoxelGrid (at
+  // floor(min / leaf)): the centroid of its points and the mean of their colours, ordered by
+  // voxel index (x fastest). `parts`: finite points, 4 floats each (x y z rgb), taken in order
+  // as one cloud. The output replaces `xyzrgb`.
+  struct Points {
+    const float* xyzrgb;
+    size_t count;
+  };
+  void voxelGrid(const std::vector<Points>& parts, double leaf, std::vector<float>& xyzrgb);
+
+ private:
+  struct Bounds {  // of a set of points
+    Eigen::Array3f min = Eigen::Array3f::Constant(std::numeric_limits<float>::max());
+    Eigen::Array3f max = Eigen::Array3f::Constant(std::numeric_limits<float>::lowest());
+    void add(const Eigen::Array3f& p) { min = min.min(p), max = max.max(p); }
+    void add(const Bounds& other) { min = min.min(other.min), max = max.max(other.max); }
+  };
+  void voxelGrid(const std::vector<Points>& parts, double leaf, const Bounds& bounds,
+                 std::vector<float>& xyzrgb);
+
+  struct Record {  // a point in the voxel sort: its voxel key, then the point itself
+    uint32_t key;
+    float xyzrgb[4];
+  };
+  std::vector<std::vector<float>> kept_;  // per part: its points in the scan volume
+  std::vector<Record> records_;           // every point, grouped by bucket of keys
+  std::vector<uint32_t> keys_;            // per point: its voxel key
+  std::vector<size_t> bucket_offsets_;    // per chunk of input and bucket: where it goes
+};
+
+// A merge with buffers of its own (tests, tools).
 MergedCloud mergeClouds(const std::vector<CloudView>& parts, const MergeOptions& options);
 
-// One point per occupied voxel of a grid of `leaf` anchored like PCL's VoxelGrid (at
-// floor(min / leaf)): the centroid of its points and the mean of their colours, ordered by
-// voxel index (x fastest). xyzrgb: 4 floats per point, replaced in place.
+// CloudMerger::voxelGrid of one cloud, in place.
 void voxelGrid(std::vector<float>& xyzrgb, double leaf);
 
 }  // namespace body_scan

@@ -142,7 +142,11 @@ class MergeNodelet : public nodelet::Nodelet {
       slowest_pair = std::max(slowest_pair, part->processing_seconds);
       stamp = std::max(stamp, part->header.stamp);
     }
-    const MergedCloud merged = mergeClouds(views, options_);
+    MergedCloud merged;
+    {
+      std::lock_guard<std::mutex> lock(merge_mutex_);  // publish() runs from two callbacks
+      merged = merger_.merge(views, options_);
+    }
     for (size_t count : merged.valid_per_part)
       report->points_per_pair.push_back(static_cast<uint32_t>(count));
 
@@ -192,6 +196,8 @@ class MergeNodelet : public nodelet::Nodelet {
   MergeOptions options_;
   std::mutex mutex_;
   std::unique_ptr<ScanAssembler<Part>> assembler_;
+  std::mutex merge_mutex_;
+  CloudMerger merger_;  // its buffers stay allocated from one scan to the next
   body_scan_msgs::TimingGroupsConstPtr groups_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
