@@ -1,7 +1,8 @@
 // Decode + triangulate + merge of one whole-body scan of the default rig (12 pairs, 18 frames
 // each, the standing subject), on 2 threads (pairs split between them), then the merge
 // (world transform, crop, 1.5 mm voxel grid; no outlier removal, the launch default):
-//   FullScan/ours                 our decoder (kFast) + triangulation + merge
+//   FullScan/ours                 our decoder (kFast) + triangulation + merge, each pair's cloud
+//                                 transformed and cropped as soon as it is triangulated
 //   FullScan/opencv_getProjPixel  the same pipeline with OpenCV structured_light decoding
 //                                 (integer stripes: stripe centres instead of subpixel)
 //   FullScan/decode_triangulate   our 12 decodes + triangulations alone
@@ -61,30 +62,49 @@ void forEachPairOnTwoThreads(size_t pairs, Work work) {
 }
 
 // One merger for the whole run, as the Merge nodelet keeps one from scan to scan.
-MergedCloud merge(const RigScan& s, const MergeOptions& options = {}) {
+CloudMerger& merger() {
   static CloudMerger merger;
+  return merger;
+}
+
+CloudView viewOf(const RigScan& s, size_t pair) {
+  return CloudView{s.clouds[pair].data(), 640 * 480, 4, 3, s.poses[pair]};
+}
+
+MergedCloud merge(const RigScan& s, const MergeOptions& options = {}) {
   std::vector<CloudView> views;
-  for (size_t i = 0; i < s.clouds.size(); ++i)
-    views.push_back(CloudView{s.clouds[i].data(), 640 * 480, 4, 3, s.poses[i]});
-  return merger.merge(views, options);
+  for (size_t i = 0; i < s.clouds.size(); ++i) views.push_back(viewOf(s, i));
+  return merger().merge(views, options);
+}
+
+// decodeTriangulate(pair) on 2 threads, each pair's cloud handed to the merger as soon as it is
+// made (still in cache), then the voxel grid.
+template <typename DecodeTriangulate>
+MergedCloud scanAndMerge(RigScan& s, DecodeTriangulate decode_triangulate) {
+  merger().begin(s.frames.size(), MergeOptions());
+  forEachPairOnTwoThreads(s.frames.size(), [&](size_t i) {
+    decode_triangulate(i);
+    merger().addPart(i, viewOf(s, i));
+  });
+  return merger().finish();
+}
+
+void decodeTriangulateOurs(RigScan& s, size_t pair) {
+  thread_local StripeImage stripes;  // one per thread, reused like Triangulate's
+  thread_local StripeDecoder decoder(PatternLayout(8, true));
+  decoder.decode(s.frames[pair], stripes);
+  s.triangulators[pair]->triangulate(stripes.coordinate, s.clouds[pair].data(), 4);
 }
 
 void decodeTriangulateOurs(RigScan& s) {
-  static thread_local StripeImage stripes;  // one per thread, reused like Triangulate's
-  forEachPairOnTwoThreads(s.frames.size(), [&](size_t i) {
-    thread_local StripeDecoder decoder(PatternLayout(8, true));
-    decoder.decode(s.frames[i], stripes);
-    s.triangulators[i]->triangulate(stripes.coordinate, s.clouds[i].data(), 4);
-  });
+  forEachPairOnTwoThreads(s.frames.size(), [&](size_t i) { decodeTriangulateOurs(s, i); });
 }
 
 void ours(benchmark::State& state) {
   RigScan& s = rigScan();
   size_t points = 0;
-  for (auto _ : state) {
-    decodeTriangulateOurs(s);
-    points = merge(s).size();
-  }
+  for (auto _ : state)
+    points = scanAndMerge(s, [&](size_t i) { decodeTriangulateOurs(s, i); }).size();
   state.counters["points"] = static_cast<double>(points);
   state.SetLabel(simdLevelName(detectedSimdLevel()));
 }
@@ -130,21 +150,19 @@ void opencvGetProjPixel(benchmark::State& state) {
     sets.push_back(std::move(frames));
   }
   size_t points = 0;
-  for (auto _ : state) {
-    forEachPairOnTwoThreads(sets.size(), [&](size_t i) {
-      thread_local auto opencv = cv::structured_light::GrayCodePattern::create(256, 2);
-      thread_local cv::Mat1f coordinate(480, 640);
-      cv::Point projector_pixel;
-      for (int v = 0; v < 480; ++v)
-        for (int u = 0; u < 640; ++u)
-          // getProjPixel returns true when the pixel is not decodable (shadow).
-          coordinate(v, u) = opencv->getProjPixel(sets[i], u, v, projector_pixel)
-                                 ? std::numeric_limits<float>::quiet_NaN()
-                                 : projector_pixel.x + 0.5f;
-      s.triangulators[i]->triangulate(coordinate, s.clouds[i].data(), 4);
-    });
-    points = merge(s).size();
-  }
+  for (auto _ : state)
+    points = scanAndMerge(s, [&](size_t i) {
+               thread_local auto opencv = cv::structured_light::GrayCodePattern::create(256, 2);
+               thread_local cv::Mat1f coordinate(480, 640);
+               cv::Point projector_pixel;
+               for (int v = 0; v < 480; ++v)
+                 for (int u = 0; u < 640; ++u)
+                   // getProjPixel returns true when the pixel is not decodable (shadow).
+                   coordinate(v, u) = opencv->getProjPixel(sets[i], u, v, projector_pixel)
+                                          ? std::numeric_limits<float>::quiet_NaN()
+                                          : projector_pixel.x + 0.5f;
+               s.triangulators[i]->triangulate(coordinate, s.clouds[i].data(), 4);
+             }).size();
   state.counters["points"] = static_cast<double>(points);
 }
 

@@ -228,53 +228,73 @@ void voxelGrid(std::vector<float>& xyzrgb, double leaf) {
   CloudMerger().voxelGrid({{input.data(), input.size() / 4}}, leaf, xyzrgb);
 }
 
-MergedCloud CloudMerger::merge(const std::vector<CloudView>& parts, const MergeOptions& options) {
-  MergedCloud merged;
-  auto start = Clock::now();
-  const float radius2 = static_cast<float>(options.crop_radius * options.crop_radius);
-  const auto min_z = static_cast<float>(options.crop_min_z);
-  const auto max_z = static_cast<float>(options.crop_max_z);
-  const float white = meanColour(255, 255, 255, 1);
-  // Each part into its own buffer (2 threads), kept for the next scan.
-  if (kept_.size() < parts.size()) kept_.resize(parts.size());
-  std::vector<Points> in_volume(parts.size());
-  std::vector<Bounds> bounds(parts.size());
-  merged.valid_per_part.assign(parts.size(), 0);
-  merged.in_volume_per_part.assign(parts.size(), 0);
-  onTwoThreads([&](int t) {
-    for (size_t index = t; index < parts.size(); index += 2) {
-      const CloudView& part = parts[index];
-      const Eigen::Matrix3f rotation = part.world_from_cloud.linear().cast<float>();
-      const Eigen::Vector3f translation = part.world_from_cloud.translation().cast<float>();
-      if (kept_[index].size() < 4 * part.count) kept_[index].resize(4 * part.count);
-      float* out = kept_[index].data();
-      size_t valid = 0, kept = 0;
-      for (size_t i = 0; i < part.count; ++i) {
-        const float* p = part.points + i * part.stride;
-        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) continue;
-        ++valid;
-        const Eigen::Vector3f w = rotation * Eigen::Vector3f(p[0], p[1], p[2]) + translation;
-        if (w.x() * w.x() + w.y() * w.y() > radius2 || w.z() < min_z || w.z() > max_z) continue;
-        float* o = out + 4 * kept++;
-        o[0] = w.x(), o[1] = w.y(), o[2] = w.z();
-        bounds[index].add(w.array());
-        o[3] = part.rgb_offset >= 0 ? p[part.rgb_offset] : white;
-      }
-      merged.valid_per_part[index] = valid;
-      merged.in_volume_per_part[index] = kept;
-      in_volume[index] = {out, kept};
-    }
-  });
-  const bool ours = options.voxel_leaf > 0 && options.voxel_grid == MergeOptions::VoxelGrid::kOurs;
-  if (!ours) concatenate(in_volume, merged.xyzrgb);
-  merged.stage_seconds.emplace_back("transform+crop", secondsSince(start));
+void CloudMerger::begin(size_t parts, const MergeOptions& options) {
+  options_ = options;
+  if (kept_.size() < parts) kept_.resize(parts);
+  in_volume_.assign(parts, Points{nullptr, 0});
+  bounds_.assign(parts, Bounds());
+  valid_.assign(parts, 0);
+  part_seconds_.assign(parts, 0.0);
+}
 
+void CloudMerger::addPart(size_t index, const CloudView& part) {
+  const auto start = Clock::now();
+  const float radius2 = static_cast<float>(options_.crop_radius * options_.crop_radius);
+  const auto min_z = static_cast<float>(options_.crop_min_z);
+  const auto max_z = static_cast<float>(options_.crop_max_z);
+  const float white = meanColour(255, 255, 255, 1);
+  const Eigen::Matrix3f rotation = part.world_from_cloud.linear().cast<float>();
+  const Eigen::Vector3f translation = part.world_from_cloud.translation().cast<float>();
+  if (kept_[index].size() < 4 * part.count) kept_[index].resize(4 * part.count);
+  float* out = kept_[index].data();
+  size_t valid = 0, kept = 0;
+  for (size_t i = 0; i < part.count; ++i) {
+    const float* p = part.points + i * part.stride;
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) continue;
+    ++valid;
+    const Eigen::Vector3f w = rotation * Eigen::Vector3f(p[0], p[1], p[2]) + translation;
+    if (w.x() * w.x() + w.y() * w.y() > radius2 || w.z() < min_z || w.z() > max_z) continue;
+    float* o = out + 4 * kept++;
+    o[0] = w.x(), o[1] = w.y(), o[2] = w.z();
+    o[3] = part.rgb_offset >= 0 ? p[part.rgb_offset] : white;
+    bounds_[index].add(w.array());
+  }
+  valid_[index] = valid;
+  in_volume_[index] = {out, kept};
+  part_seconds_[index] = secondsSince(start);
+}
+
+MergedCloud CloudMerger::merge(const std::vector<CloudView>& parts, const MergeOptions& options) {
+  const auto start = Clock::now();
+  begin(parts.size(), options);
+  onTwoThreads([&](int t) {
+    for (size_t index = t; index < parts.size(); index += 2) addPart(index, parts[index]);
+  });
+  return finish(secondsSince(start));
+}
+
+MergedCloud CloudMerger::finish(double transform_seconds) {
+  MergedCloud merged;
+  merged.valid_per_part = valid_;
+  for (const Points& part : in_volume_) merged.in_volume_per_part.push_back(part.count);
+  auto start = Clock::now();
+  const MergeOptions& options = options_;
+  const bool ours = options.voxel_leaf > 0 && options.voxel_grid == MergeOptions::VoxelGrid::kOurs;
+  if (!ours) concatenate(in_volume_, merged.xyzrgb);
+  if (transform_seconds >= 0) {
+    merged.stage_seconds.emplace_back("transform+crop", transform_seconds + secondsSince(start));
+  } else {
+    double sum = 0;
+    for (double seconds : part_seconds_) sum += seconds;
+    merged.stage_seconds.emplace_back("transform+crop (as the pairs came, summed)",
+                                      sum + secondsSince(start));
+  }
   if (options.voxel_leaf > 0) {
     start = Clock::now();
     if (ours) {
       Bounds all;
-      for (const Bounds& part : bounds) all.add(part);
-      voxelGrid(in_volume, options.voxel_leaf, all, merged.xyzrgb);
+      for (const Bounds& part : bounds_) all.add(part);
+      voxelGrid(in_volume_, options.voxel_leaf, all, merged.xyzrgb);
     } else {
       pclVoxelGrid(merged.xyzrgb, options.voxel_leaf);
     }

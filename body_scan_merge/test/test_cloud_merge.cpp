@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 #include <set>
+#include <thread>
 #include <tuple>
 
 using namespace body_scan;
@@ -154,4 +155,33 @@ TEST(CloudMerge, TheSamePartsGiveTheSameCloudBitForBit) {
       CloudView{a.data(), 30000, 4, 3, Eigen::Isometry3d::Identity()},
       CloudView{b.data(), 30000, 4, 3, Eigen::Isometry3d::Identity()}};
   EXPECT_EQ(mergeClouds(parts, options).xyzrgb, mergeClouds(parts, options).xyzrgb);
+}
+
+TEST(CloudMerge, PartsAddedOneByOneFromTwoThreadsGiveTheSameCloud) {
+  std::vector<std::vector<float>> clouds;
+  std::vector<CloudView> parts;
+  for (uint32_t seed = 1; seed <= 5; ++seed) clouds.push_back(cylinderPoints(0.15, 20000, seed));
+  for (size_t i = 0; i < clouds.size(); ++i) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() = Eigen::Vector3d(0.01 * i, 0, 0.1);  // distinct poses per part
+    parts.push_back(CloudView{clouds[i].data(), 20000, 4, 3, pose});
+  }
+  MergeOptions options;
+  options.voxel_leaf = 0.002;
+  CloudMerger merger;
+  const MergedCloud all_at_once = merger.merge(parts, options);
+  merger.begin(parts.size(), options);
+  std::thread odd([&] {  // in the opposite order to the part index
+    for (size_t i = parts.size() - (parts.size() % 2 == 0 ? 1 : 2);; i -= 2) {
+      merger.addPart(i, parts[i]);
+      if (i < 2) break;
+    }
+  });
+  for (size_t i = 0; i < parts.size(); i += 2) merger.addPart(i, parts[i]);
+  odd.join();
+  const MergedCloud one_by_one = merger.finish();
+  EXPECT_GT(one_by_one.size(), 50000u);
+  EXPECT_EQ(one_by_one.xyzrgb, all_at_once.xyzrgb);
+  EXPECT_EQ(one_by_one.valid_per_part, all_at_once.valid_per_part);
+  EXPECT_EQ(one_by_one.in_volume_per_part, all_at_once.in_volume_per_part);
 }

@@ -58,7 +58,16 @@ struct MergedCloud {
 // threads. Not thread-safe: one merge at a time per CloudMerger.
 class CloudMerger {
  public:
+  // All parts at once: transform and crop on 2 threads, then the filters.
   MergedCloud merge(const std::vector<CloudView>& parts, const MergeOptions& options);
+
+  // Or part by part as they are made (transformed while still in cache): begin(), then
+  // addPart(i) once for every i < parts, from any threads (distinct i may run concurrently),
+  // then finish(). The same cloud as merge() of the same parts.
+  void begin(size_t parts, const MergeOptions& options);
+  void addPart(size_t index, const CloudView& part);
+  // transform_seconds: the wall time of the addPart calls if known (< 0: their sum).
+  MergedCloud finish(double transform_seconds = -1);
 
   // One point per occupied voxel of a grid of `leaf` anchored like PCL's VoxelGrid (at
   // floor(min / leaf)): the centroid of its points and the mean of their colours, ordered by
@@ -84,7 +93,12 @@ class CloudMerger {
     uint32_t key;
     float xyzrgb[4];
   };
+  MergeOptions options_;
   std::vector<std::vector<float>> kept_;  // per part: its points in the scan volume
+  std::vector<Points> in_volume_;         // per part: the part of kept_ in use
+  std::vector<Bounds> bounds_;            // per part: of its points in the scan volume
+  std::vector<size_t> valid_;             // per part: its finite points
+  std::vector<double> part_seconds_;      // per part: addPart's time
   std::vector<Record> records_;           // every point, grouped by bucket of keys
   std::vector<uint32_t> keys_;            // per point: its voxel key
   std::vector<size_t> bucket_offsets_;    // per chunk of input and bucket: where it goes
