@@ -130,7 +130,10 @@ int main(int argc, char** argv) {
            << ", fit_seconds: " << fit_seconds << "}\n";
       if (per_joint) {
         for (const auto& [name, error] : errors.joint_error)
-          std::printf("    %-15s %6.1f mm\n", name.c_str(), 1000 * error);
+          std::printf("    %-15s %6.1f mm (%+6.1f %+6.1f %+6.1f)\n", name.c_str(), 1000 * error,
+                      1000 * errors.joint_offset.at(name).x(),
+                      1000 * errors.joint_offset.at(name).y(),
+                      1000 * errors.joint_offset.at(name).z());
         for (const auto& [name, bias] : errors.segment_length_bias)
           std::printf("    %-15s %+6.1f %%\n", name.c_str(), 100 * bias);
       }
