@@ -50,10 +50,10 @@ TEST(BodyFitter, FitsSubjectsInTheFourGaitPoses) {
       cases, 1000 * joint, 100 * length, swing * 180 / kPi, right, cases,
       1000 * fit_seconds / cases);
   EXPECT_EQ(right, cases);
-  EXPECT_LE(swing, 4 * kPi / 180);  // issue 5 target
-  // Issue 5 targets are 25 mm and 5 %; these bounds hold the level reached so far.
-  EXPECT_LE(joint, 0.035);
-  EXPECT_LE(length, 0.11);
+  // Issue 5 targets.
+  EXPECT_LE(swing, 4 * kPi / 180);
+  EXPECT_LE(joint, 0.025);
+  EXPECT_LE(length, 0.05);
 }
 
 TEST(BodyFitter, RefinementLowersTheSurfaceDistanceWithinJointLimits) {

@@ -141,18 +141,22 @@ FitErrors compareWithTruth(const BodyModel& model, const SampledBody& body) {
     const Eigen::Vector3d knee = truth(side + "_knee"), ankle = truth(side + "_ankle");
     return Eigen::Vector3d(ankle + b.ankle_height * (ankle - knee).normalized());
   };
-  FitErrors errors;
-  for (const std::string side : {"left", "right"}) {
-    for (const std::string joint : {"shoulder", "elbow", "hand_tip", "hip", "knee"})
-      errors.joint_error[side + "_" + joint] =
-          (posed.joint(side + "_" + joint) - truth(side + "_" + joint)).norm();
-    errors.joint_error[side + "_sole"] = (posed.joint(side + "_sole") - trueSole(side)).norm();
-  }
-  errors.joint_error["head_top"] = (posed.joint("head_top") - truth("head_top")).norm();
-
   const double heading = body.spec.pose.heading;
   const Eigen::Vector3d front(std::cos(heading), std::sin(heading), 0);
   const Eigen::Vector3d left(-std::sin(heading), std::cos(heading), 0);
+  FitErrors errors;
+  auto addJoint = [&](const std::string& name, const Eigen::Vector3d& true_position) {
+    const Eigen::Vector3d offset = posed.joint(name) - true_position;
+    errors.joint_error[name] = offset.norm();
+    errors.joint_offset[name] = Eigen::Vector3d(offset.dot(front), offset.dot(left), offset.z());
+  };
+  for (const std::string side : {"left", "right"}) {
+    for (const std::string joint : {"shoulder", "elbow", "hand_tip", "hip", "knee"})
+      addJoint(side + "_" + joint, truth(side + "_" + joint));
+    addJoint(side + "_sole", trueSole(side));
+  }
+  addJoint("head_top", truth("head_top"));
+
   auto swing = [&](const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
     const Eigen::Vector3d d = to - from;
     return std::atan2(d.dot(front), -d.z());  // forward swing from hanging straight down
@@ -173,7 +177,8 @@ FitErrors compareWithTruth(const BodyModel& model, const SampledBody& body) {
       const double true_length = (true_to - true_from).norm();
       const double fitted_length = (posed.joint(to) - posed.joint(from)).norm();
       const std::string name = side + "_" + limb.segment;
-      errors.segment_length_error[name] = std::abs(fitted_length - true_length) / true_length;
+      errors.segment_length_bias[name] = (fitted_length - true_length) / true_length;
+      errors.segment_length_error[name] = std::abs(errors.segment_length_bias[name]);
       errors.swing_error[name] = std::abs(std::remainder(
           swing(posed.joint(from), posed.joint(to)) - swing(true_from, true_to), 2 * kPi));
     }

@@ -3,7 +3,13 @@
 // YAML report. Only this tool (and the tests) read ground truth; the fitter does not.
 //
 //   evaluate_body_fit [--subjects N] [--columns C] [--noise SIGMA_M] [--min-albedo A]
-//                     [--missing-viewpoints i,j,...] [--abduction-deg D] [--out report.yaml]
+//                     [--missing-viewpoints i,j,...] [--abduction-deg D] [--direct 1]
+//                     [--test-headings 1] [--per-joint 1] [--out report.yaml]
+//
+// After the summary: per joint the mean error and mean offset (fitted - true) in the true body
+// frame (forward, left, up), per limb segment the mean absolute and signed length error.
+// --direct 1 skips the refinement; --test-headings 1 uses test_body_fitter's headings;
+// --per-joint 1 prints every fit's joint and segment errors.
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/eval/body_cloud_sampler.h>
 #include <body_scan_driver/atomic_file.h>
@@ -12,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -23,7 +30,8 @@ constexpr double kPi = 3.14159265358979323846;
   std::fprintf(stderr,
                "evaluate_body_fit: %s\nusage: evaluate_body_fit [--subjects N (>= 1)] [--columns "
                "C (ray grid per viewpoint, >= 20)] [--noise SIGMA_M] [--min-albedo A] "
-               "[--missing-viewpoints i,j] [--abduction-deg D] [--out report.yaml]\n",
+               "[--missing-viewpoints i,j] [--abduction-deg D] [--direct 1] [--test-headings 1] "
+               "[--per-joint 1] [--out report.yaml]\n",
                problem.c_str());
   std::exit(2);
 }
@@ -41,6 +49,8 @@ int main(int argc, char** argv) {
   int subjects = 10;
   std::string out;
   double abduction_deg = -1;
+  bool test_headings = false, per_joint = false;
+  body_gait::FitOptions options;
   body_gait::eval::ScanRig rig;
   rig.noise_sigma = 0.002;
   for (int i = 1; i < argc; ++i) {
@@ -62,6 +72,12 @@ int main(int argc, char** argv) {
       while (std::getline(list, item, ',')) rig.missing_viewpoints.push_back(std::stoi(item));
     } else if (flag == "--abduction-deg") {
       abduction_deg = number(value, flag);
+    } else if (flag == "--direct") {
+      options.refine = number(value, flag) == 0;
+    } else if (flag == "--per-joint") {
+      per_joint = number(value, flag) != 0;
+    } else if (flag == "--test-headings") {
+      test_headings = number(value, flag) != 0;
     } else if (flag == "--out") {
       out = value;
     } else {
@@ -74,16 +90,23 @@ int main(int argc, char** argv) {
   yaml << "cases:\n";
   double joint = 0, length = 0, swing = 0, seconds = 0, points = 0;
   int cases = 0, right = 0, low_quality = 0;
+  struct JointStats {
+    double error = 0;
+    Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  };
+  std::map<std::string, JointStats> joint_stats;
+  std::map<std::string, std::pair<double, double>> segment_stats;  // |error|, signed error
   for (const auto& subject : body_gait::eval::simulatedSubjects(subjects)) {
     for (int pose = 1; pose <= 4; ++pose) {
       auto spec = subject;
-      spec.pose = body_gait::eval::gaitPose(pose, 0.3 + 1.7 * (pose + cases));
+      spec.pose =
+          body_gait::eval::gaitPose(pose, 0.3 + 1.7 * (test_headings ? pose : pose + cases));
       if (abduction_deg >= 0)
         spec.pose.left_shoulder_abduction = spec.pose.right_shoulder_abduction =
             abduction_deg * kPi / 180;
       const auto body = body_gait::eval::sampleBody(spec, rig);
       const auto start = std::chrono::steady_clock::now();
-      const body_gait::BodyFit fit = body_gait::fitBody(body.points);
+      const body_gait::BodyFit fit = body_gait::fitBody(body.points, options);
       const double fit_seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const auto errors = body_gait::eval::compareWithTruth(fit.model, body);
@@ -105,6 +128,23 @@ int main(int argc, char** argv) {
            << ", explained: " << fit.quality.explained_fraction
            << ", low_quality: " << (fit.quality.low_quality ? "true" : "false")
            << ", fit_seconds: " << fit_seconds << "}\n";
+      if (per_joint) {
+        for (const auto& [name, error] : errors.joint_error)
+          std::printf("    %-15s %6.1f mm (%+6.1f %+6.1f %+6.1f)\n", name.c_str(), 1000 * error,
+                      1000 * errors.joint_offset.at(name).x(),
+                      1000 * errors.joint_offset.at(name).y(),
+                      1000 * errors.joint_offset.at(name).z());
+        for (const auto& [name, bias] : errors.segment_length_bias)
+          std::printf("    %-15s %+6.1f %%\n", name.c_str(), 100 * bias);
+      }
+      for (const auto& [name, error] : errors.joint_error) {
+        joint_stats[name].error += error;
+        joint_stats[name].offset += errors.joint_offset.at(name);
+      }
+      for (const auto& [name, bias] : errors.segment_length_bias) {
+        segment_stats[name].first += std::abs(bias);
+        segment_stats[name].second += bias;
+      }
       joint += errors.mean_joint_error;
       length += errors.mean_length_error;
       swing += errors.mean_swing_error;
@@ -121,6 +161,24 @@ int main(int argc, char** argv) {
       "%d/%d, low quality %d, %.0f ms per fit\n",
       cases, subjects, points / cases, 1000 * joint / cases, 100 * length / cases,
       swing / cases * 180 / kPi, right, cases, low_quality, 1000 * seconds / cases);
+  std::printf("%-16s %9s %28s\n", "joint", "error mm", "offset fwd/left/up mm");
+  for (const auto& [name, stats] : joint_stats)
+    std::printf("%-16s %9.1f %9.1f %8.1f %8.1f\n", name.c_str(), 1000 * stats.error / cases,
+                1000 * stats.offset.x() / cases, 1000 * stats.offset.y() / cases,
+                1000 * stats.offset.z() / cases);
+  std::printf("%-16s %9s %9s\n", "segment", "|error| %", "signed %");
+  for (const auto& [name, stats] : segment_stats)
+    std::printf("%-16s %9.1f %9.1f\n", name.c_str(), 100 * stats.first / cases,
+                100 * stats.second / cases);
+  yaml << "joints:\n";
+  for (const auto& [name, stats] : joint_stats)
+    yaml << "  " << name << ": {error_m: " << stats.error / cases << ", offset_forward_left_up_m: ["
+         << stats.offset.x() / cases << ", " << stats.offset.y() / cases << ", "
+         << stats.offset.z() / cases << "]}\n";
+  yaml << "segments:\n";
+  for (const auto& [name, stats] : segment_stats)
+    yaml << "  " << name << ": {length_error: " << stats.first / cases
+         << ", signed_length_error: " << stats.second / cases << "}\n";
   yaml << "summary: {fits: " << cases << ", mean_points: " << points / cases
        << ", mean_joint_error_m: " << joint / cases << ", mean_length_error: " << length / cases
        << ", mean_swing_error_rad: " << swing / cases << ", heading_right: " << right

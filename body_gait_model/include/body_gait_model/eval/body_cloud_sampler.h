@@ -60,6 +60,10 @@ struct FitErrors {
   std::map<std::string, double> joint_error;           // m, per joint name (PosedModel names)
   std::map<std::string, double> segment_length_error;  // fraction, per limb segment name
   std::map<std::string, double> swing_error;           // rad, upper/lower arms and legs
+  // Diagnostics: fitted minus true joint in the true body frame (forward, left, up; m) and the
+  // signed segment-length error (fraction; > 0 = fitted too long).
+  std::map<std::string, Eigen::Vector3d> joint_offset;
+  std::map<std::string, double> segment_length_bias;
   double mean_joint_error = 0, mean_length_error = 0, mean_swing_error = 0;
   bool front_right = false;  // fitted front within 45 degrees of the true heading
   bool left_right = false;   // the fitted left arm/leg is the subject's left (true left side)
