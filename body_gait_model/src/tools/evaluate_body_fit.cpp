@@ -4,15 +4,25 @@
 //
 //   evaluate_body_fit [--subjects N] [--columns C] [--noise SIGMA_M] [--min-albedo A]
 //                     [--missing-viewpoints i,j,...] [--abduction-deg D] [--direct 1]
-//                     [--test-headings 1] [--per-joint 1] [--out report.yaml]
+//                     [--test-headings 1] [--per-joint 1] [--full-scanner 1]
+//                     [--missing-pairs pole_c/pair_2,...] [--only SUBJECT]
+//                     [--clouds DIR] [--rig RIG.yaml] [--out report.yaml]
 //
 // After the summary: per joint the mean error and mean offset (fitted - true) in the true body
 // frame (forward, left, up), per limb segment the mean absolute and signed length error.
 // --direct 1 skips the refinement; --test-headings 1 uses test_body_fitter's headings;
-// --per-joint 1 prints every fit's joint and segment errors.
+// --per-joint 1 prints every fit's joint and segment errors. --full-scanner 1 scans each subject
+// with the simulated full scanner (the thesis rig's 12 pairs, as test_full_scanner_fit; headings
+// within +-46 deg of the rig's front) instead of the ray-cast sampler (--columns, --noise,
+// --min-albedo and --missing-viewpoints are the sampler's); --missing-pairs leaves pairs out;
+// --rig scans with another rig file than the thesis rig.
+// --only runs one subject (e.g. subject_9); --clouds writes every case's cloud to
+// DIR/<subject>_pose<k>.ply (world frame) for a look in rviz or a viewer.
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/eval/body_cloud_sampler.h>
+#include <body_gait_model/eval/full_scanner_body.h>
 #include <body_scan_driver/atomic_file.h>
+#include <body_scan_merge/ply_writer.h>
 
 #include <chrono>
 #include <cmath>
@@ -31,7 +41,9 @@ constexpr double kPi = 3.14159265358979323846;
                "evaluate_body_fit: %s\nusage: evaluate_body_fit [--subjects N (>= 1)] [--columns "
                "C (ray grid per viewpoint, >= 20)] [--noise SIGMA_M] [--min-albedo A] "
                "[--missing-viewpoints i,j] [--abduction-deg D] [--direct 1] [--test-headings 1] "
-               "[--per-joint 1] [--out report.yaml]\n",
+               "[--per-joint 1] [--full-scanner 1] [--missing-pairs id,id] [--only SUBJECT] "
+               "[--clouds DIR] [--rig RIG.yaml] "
+               "[--out report.yaml]\n",
                problem.c_str());
   std::exit(2);
 }
@@ -49,7 +61,9 @@ int main(int argc, char** argv) {
   int subjects = 10;
   std::string out;
   double abduction_deg = -1;
-  bool test_headings = false, per_joint = false;
+  bool test_headings = false, per_joint = false, full_scanner = false;
+  body_gait::eval::FullScannerOptions scanner;
+  std::string only, clouds;
   body_gait::FitOptions options;
   body_gait::eval::ScanRig rig;
   rig.noise_sigma = 0.002;
@@ -78,6 +92,17 @@ int main(int argc, char** argv) {
       per_joint = number(value, flag) != 0;
     } else if (flag == "--test-headings") {
       test_headings = number(value, flag) != 0;
+    } else if (flag == "--full-scanner") {
+      full_scanner = number(value, flag) != 0;
+    } else if (flag == "--missing-pairs") {
+      std::stringstream list(value);
+      for (std::string id; std::getline(list, id, ',');) scanner.missing_pairs.push_back(id);
+    } else if (flag == "--rig") {
+      scanner.rig_file = value;
+    } else if (flag == "--only") {
+      only = value;
+    } else if (flag == "--clouds") {
+      clouds = value;
     } else if (flag == "--out") {
       out = value;
     } else {
@@ -85,11 +110,19 @@ int main(int argc, char** argv) {
     }
   }
   if (subjects < 1 || rig.columns < 20) usage("--subjects must be >= 1 and --columns >= 20");
+  if (!only.empty()) {
+    bool known = false;
+    for (const auto& subject : body_gait::eval::simulatedSubjects(subjects))
+      known = known || subject.name == only;
+    if (!known)
+      usage("--only " + only + ": no such subject among subject_0 .. subject_" +
+            std::to_string(subjects - 1));
+  }
 
   std::ostringstream yaml;
   yaml << "cases:\n";
   double joint = 0, length = 0, swing = 0, seconds = 0, points = 0;
-  int cases = 0, right = 0, low_quality = 0;
+  int cases = 0, right = 0, low_quality = 0, cases_skipped = 0;
   struct JointStats {
     double error = 0;
     Eigen::Vector3d offset = Eigen::Vector3d::Zero();
@@ -98,13 +131,37 @@ int main(int argc, char** argv) {
   std::map<std::string, std::pair<double, double>> segment_stats;  // |error|, signed error
   for (const auto& subject : body_gait::eval::simulatedSubjects(subjects)) {
     for (int pose = 1; pose <= 4; ++pose) {
+      if (!only.empty() && subject.name != only) {
+        ++cases_skipped;
+        continue;
+      }
       auto spec = subject;
-      spec.pose =
-          body_gait::eval::gaitPose(pose, 0.3 + 1.7 * (test_headings ? pose : pose + cases));
+      spec.pose = body_gait::eval::gaitPose(
+          pose, full_scanner ? body_gait::eval::fullScannerHeading(cases + cases_skipped)
+                             : 0.3 + 1.7 * (test_headings ? pose : pose + cases + cases_skipped));
       if (abduction_deg >= 0)
         spec.pose.left_shoulder_abduction = spec.pose.right_shoulder_abduction =
             abduction_deg * kPi / 180;
-      const auto body = body_gait::eval::sampleBody(spec, rig);
+      body_gait::eval::SampledBody body;
+      try {
+        body = full_scanner ? body_gait::eval::scanBodyWithFullScanner(spec, scanner)
+                            : body_gait::eval::sampleBody(spec, rig);
+      } catch (const std::exception& error) {
+        std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
+        return 1;
+      }
+      if (!clouds.empty()) {
+        std::vector<float> xyz;
+        for (const Eigen::Vector3d& p : body.points)
+          xyz.insert(xyz.end(), {float(p.x()), float(p.y()), float(p.z())});
+        const std::string path = clouds + "/" + spec.name + "_pose" + std::to_string(pose) + ".ply";
+        try {
+          body_scan::writePly(path, xyz.data(), body.points.size(), 3, -1);
+        } catch (const std::exception& error) {
+          std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
+          return 1;
+        }
+      }
       const auto start = std::chrono::steady_clock::now();
       const body_gait::BodyFit fit = body_gait::fitBody(body.points, options);
       const double fit_seconds =
