@@ -7,6 +7,8 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <string>
+#include <tuple>
 
 namespace body_gait {
 namespace {
@@ -235,6 +237,10 @@ double polygonRadius(const CrossSection& section, double phi, int sectors) {
 
 enum Part { kTorsoPart, kHeadPart, kRightArm, kLeftArm, kRightLeg, kLeftLeg, kUnassigned };
 
+// Standard proportions (Drillis & Contini): elbow at 0.186 / 0.44 of shoulder to finger tip,
+// knee at 0.245 / 0.53 of hip to sole.
+constexpr double kElbowFraction = 0.186 / 0.44, kKneeFraction = 0.245 / 0.53;
+
 }  // namespace
 
 FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,
@@ -271,6 +277,19 @@ FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,
     if (quality.points_per_segment[s] < options.min_points_per_limb_segment)
       reason += std::string(segmentInfo(s).name) + " explains only " +
                 std::to_string(quality.points_per_segment[s]) + " points; ";
+  // Limb proportions (FitQualityOptions::max_*_share_deviation).
+  for (const auto& [upper, standard, tolerance] :
+       {std::tuple{kRightUpperArm, kElbowFraction, options.max_arm_share_deviation},
+        std::tuple{kLeftUpperArm, kElbowFraction, options.max_arm_share_deviation},
+        std::tuple{kRightUpperLeg, kKneeFraction, options.max_leg_share_deviation},
+        std::tuple{kLeftUpperLeg, kKneeFraction, options.max_leg_share_deviation}}) {
+    const double limb_length = model.r[upper] + model.r[upper + 1];
+    const double share = limb_length > 0 ? model.r[upper] / limb_length : 0.0;
+    if (std::abs(share - standard) > tolerance)
+      reason += std::string(segmentInfo(upper).name) + " is " +
+                std::to_string(int(std::lround(100 * share))) + " % of its limb (standard " +
+                std::to_string(int(std::lround(100 * standard))) + " %); ";
+  }
   quality.low_quality = !reason.empty();
   if (quality.low_quality)
     quality.reason = reason +
@@ -404,9 +423,6 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
                                            0.02 * body_height, 0.08 * body_height);
   const Eigen::Vector3d hip_of_side[2] = {pelvis_centre - Eigen::Vector3d(hip_half_width, 0, 0),
                                           pelvis_centre + Eigen::Vector3d(hip_half_width, 0, 0)};
-  // Standard proportions (Drillis & Contini): elbow at 0.186 / 0.44 of shoulder to finger tip,
-  // knee at 0.245 / 0.53 of hip to sole.
-  constexpr double kElbowFraction = 0.186 / 0.44, kKneeFraction = 0.245 / 0.53;
   constexpr double kArmRadius = 0.045;
   constexpr double kFootHeight = 0.06;  // * body height: the foot's points above the sole
   LimbFit limbs[6];

@@ -83,6 +83,8 @@ FitOptions loadFitOptions(const std::string& path) {
       .field("min_explained_fraction", options.quality.min_explained_fraction)
       .field("max_rms", options.quality.max_rms)
       .field("min_points_per_limb_segment", options.quality.min_points_per_limb_segment)
+      .field("max_leg_share_deviation", options.quality.max_leg_share_deviation)
+      .field("max_arm_share_deviation", options.quality.max_arm_share_deviation)
       .field("max_points", options.quality.max_points);
   Section refinement(path, "refinement.");
   refinement.field("sample_points", options.refinement.sample_points)
