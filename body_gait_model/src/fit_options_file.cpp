@@ -91,7 +91,8 @@ FitOptions loadFitOptions(const std::string& path) {
       .field("rounds", options.refinement.rounds)
       .field("max_iterations", options.refinement.max_iterations)
       .field("huber_scale", options.refinement.huber_scale)
-      .field("min_length", options.refinement.min_length);
+      .field("min_length", options.refinement.min_length)
+      .field("max_length_change", options.refinement.max_length_change);
   Section top(path, "");
   top.section("axes", [&](const YAML::Node& n) { axes.read(n); })
       .section("torso", [&](const YAML::Node& n) { torso.read(n); })
