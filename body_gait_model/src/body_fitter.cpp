@@ -402,10 +402,77 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
     if (!std::isfinite(shoulder_top)) shoulder_top = torso.top;
     return line.atHeight(shoulder_top - radius);
   };
+  // Head and neck (5.5.4): the neck is the narrowest section above the torso, the chin where the
+  // sections widen again; the head runs from there to its highest point.
+  double neck_area = std::numeric_limits<double>::infinity(), neck_height = torso.top;
+  double head_top = torso.top;
+  std::vector<Eigen::Vector3d> head_points;
+  for (size_t i = 0; i < model_points.size(); ++i)
+    if (part[i] == kHeadPart) {
+      head_points.push_back(model_points[i]);
+      head_top = std::max(head_top, model_points[i].y());
+    }
+  if (head_points.size() < 30)
+    throw std::invalid_argument("body fit: no head above the torso (" +
+                                std::to_string(head_points.size()) +
+                                " points); the top viewpoints must see the subject's head");
+  // The neck: the smallest well-sampled section in the lower half of the head-and-neck range.
+  for (const auto& section : torso.sections)
+    if (section.height > torso.top && section.height < (torso.top + head_top) / 2 &&
+        section.filled_sectors >= sectors / 2 && section.area < neck_area) {
+      neck_area = section.area;
+      neck_height = section.height;
+    }
+  if (!std::isfinite(neck_area)) neck_area = torso.sectionAt(torso.top).area;
+  double chin = torso.top + 0.3 * (head_top - torso.top);  // if the sections never widen
+  bool chin_found = false;
+  double head_area = 0;
+  for (const auto& section : torso.sections)
+    if (section.height > neck_height && section.height < head_top) {
+      if (section.filled_sectors < sectors / 2) continue;
+      if (!chin_found && section.area > 1.6 * neck_area) {
+        chin = section.height;
+        chin_found = true;
+      }
+      head_area = std::max(head_area, section.area);
+    }
+  Eigen::Vector3d head_centroid = Eigen::Vector3d::Zero();
+  int head_count = 0;
+  for (const auto& p : head_points)
+    if (p.y() > chin) {
+      head_centroid += p;
+      ++head_count;
+    }
+  const CrossSection& chin_section = torso.sectionAt(chin);
+  const Eigen::Vector3d chin_centre(chin_section.centre.x(), chin, chin_section.centre.y());
+  Eigen::Vector3d head_direction = torso.upper_direction;
+  // Dark hair returns no light: the head's upper half is then open (its sections have points in
+  // a few sectors only, the face's; a seen head fills nearly all), its visible top lies 40-53 mm
+  // below the vertex and the face alone pulls the head's centroid forward. Then the vertex comes
+  // from the chin by proportion: in fits of simulated subjects with their hair seen, the chin
+  // found above lies 0.103 (0.096-0.116) of the stature below the vertex (10 subjects x 4 poses;
+  // Drillis & Contini's chin-to-vertex is 0.130, the sections widen past 1.6x the neck's ~0.03
+  // higher). Measured on the same subjects with dark hair: vertex -3 mm (8 mm RMS) instead of
+  // -46 mm. The stature from it sets the hips' height.
+  constexpr double kChinToVertex = 0.103;  // * stature
+  int upper_head_sections = 0, upper_head_filled = 0;
+  for (const auto& section : torso.sections)
+    if (section.height > (chin + head_top) / 2 && section.height < head_top) {
+      ++upper_head_sections;
+      upper_head_filled += section.filled_sectors;
+    }
+  const bool head_top_open = chin_found && upper_head_sections > 0 &&
+                             upper_head_filled < upper_head_sections * sectors / 2;
+  if (head_top_open)
+    head_top = std::max(head_top, (chin - kChinToVertex * axes.lowest) / (1 - kChinToVertex));
+  else if (head_count > 10)
+    head_direction = (head_centroid / head_count - chin_centre).normalized();
+  const double stature = head_top - axes.lowest;  // body_height, or more with the hair unseen
+
   // Hips: inside the pelvis, unseen. Height by proportion; depth on the lower torso's axis; each
   // hip above the centre of its thigh's top 10 cm (a thigh line extrapolated up from a low
   // crotch swings wildly when the knee is bent).
-  const double hip_y = axes.lowest + options.hip_height * body_height;
+  const double hip_y = axes.lowest + options.hip_height * stature;
   const Eigen::Vector3d pelvis_centre = Line{torso.waist, torso.lower_direction}.atHeight(hip_y);
   // Each thigh's axis at its top: the centre of a circle fitted to its top 10 cm (Kasa's
   // algebraic fit). The points' centroid lay ~16 mm outward: the inner thigh, hidden by the
@@ -484,52 +551,6 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
     else
       hip[side] = hip_of_side[side];
   }
-
-  // Head and neck (5.5.4): the neck is the narrowest section above the torso, the chin where the
-  // sections widen again; the head runs from there to its highest point.
-  double neck_area = std::numeric_limits<double>::infinity(), neck_height = torso.top;
-  double head_top = torso.top;
-  std::vector<Eigen::Vector3d> head_points;
-  for (size_t i = 0; i < model_points.size(); ++i)
-    if (part[i] == kHeadPart) {
-      head_points.push_back(model_points[i]);
-      head_top = std::max(head_top, model_points[i].y());
-    }
-  if (head_points.size() < 30)
-    throw std::invalid_argument("body fit: no head above the torso (" +
-                                std::to_string(head_points.size()) +
-                                " points); the top viewpoints must see the subject's head");
-  // The neck: the smallest well-sampled section in the lower half of the head-and-neck range.
-  for (const auto& section : torso.sections)
-    if (section.height > torso.top && section.height < (torso.top + head_top) / 2 &&
-        section.filled_sectors >= sectors / 2 && section.area < neck_area) {
-      neck_area = section.area;
-      neck_height = section.height;
-    }
-  if (!std::isfinite(neck_area)) neck_area = torso.sectionAt(torso.top).area;
-  double chin = torso.top + 0.3 * (head_top - torso.top);  // if the sections never widen
-  bool chin_found = false;
-  double head_area = 0;
-  for (const auto& section : torso.sections)
-    if (section.height > neck_height && section.height < head_top) {
-      if (section.filled_sectors < sectors / 2) continue;
-      if (!chin_found && section.area > 1.6 * neck_area) {
-        chin = section.height;
-        chin_found = true;
-      }
-      head_area = std::max(head_area, section.area);
-    }
-  Eigen::Vector3d head_centroid = Eigen::Vector3d::Zero();
-  int head_count = 0;
-  for (const auto& p : head_points)
-    if (p.y() > chin) {
-      head_centroid += p;
-      ++head_count;
-    }
-  const CrossSection& chin_section = torso.sectionAt(chin);
-  const Eigen::Vector3d chin_centre(chin_section.centre.x(), chin, chin_section.centre.y());
-  Eigen::Vector3d head_direction = torso.upper_direction;
-  if (head_count > 10) head_direction = (head_centroid / head_count - chin_centre).normalized();
 
   // Assemble the model in the world (eq 5.4 inverse): root at w_g with the body axes.
   BodyModel& model = fit.model;
