@@ -83,13 +83,16 @@ FitOptions loadFitOptions(const std::string& path) {
       .field("min_explained_fraction", options.quality.min_explained_fraction)
       .field("max_rms", options.quality.max_rms)
       .field("min_points_per_limb_segment", options.quality.min_points_per_limb_segment)
+      .field("max_leg_share_deviation", options.quality.max_leg_share_deviation)
+      .field("max_arm_share_deviation", options.quality.max_arm_share_deviation)
       .field("max_points", options.quality.max_points);
   Section refinement(path, "refinement.");
   refinement.field("sample_points", options.refinement.sample_points)
       .field("rounds", options.refinement.rounds)
       .field("max_iterations", options.refinement.max_iterations)
       .field("huber_scale", options.refinement.huber_scale)
-      .field("min_length", options.refinement.min_length);
+      .field("min_length", options.refinement.min_length)
+      .field("max_length_change", options.refinement.max_length_change);
   Section top(path, "");
   top.section("axes", [&](const YAML::Node& n) { axes.read(n); })
       .section("torso", [&](const YAML::Node& n) { torso.read(n); })

@@ -150,6 +150,7 @@ RefinementReport refineModel(BodyModel& model, const Cloud& cloud,
   const size_t stride = std::max<size_t>(1, cloud.size() / options.sample_points);
   for (size_t i = 0; i < cloud.size(); i += stride) sample.push_back(cloud[i]);
   report.initial_rms = rms(model, assign(model, sample));
+  const SegmentLengths initial_lengths = model.r;
   for (int round = 0; round < options.rounds; ++round) {
     const std::vector<AssignedPoint> assigned = assign(model, sample);
     double p[6], q[22], r[12];
@@ -168,7 +169,15 @@ RefinementReport refineModel(BodyModel& model, const Cloud& cloud,
       problem.SetParameterLowerBound(q, index + 1, limits.z_min);
       problem.SetParameterUpperBound(q, index + 1, limits.z_max);
     }
-    for (int i = 0; i < 12; ++i) problem.SetParameterLowerBound(r, i, options.min_length);
+    // Lengths within +-max_length_change of the direct fit's (RefinementOptions).
+    for (int i = 0; i < 12; ++i) {
+      const double low =
+          std::max(options.min_length, (1 - options.max_length_change) * initial_lengths[i]);
+      const double high = std::max(low, (1 + options.max_length_change) * initial_lengths[i]);
+      r[i] = std::clamp(r[i], low, high);
+      problem.SetParameterLowerBound(r, i, low);
+      problem.SetParameterUpperBound(r, i, high + 1e-9);
+    }
     ceres::Solver::Options solver;
     solver.max_num_iterations = options.max_iterations;
     solver.linear_solver_type = ceres::DENSE_QR;

@@ -149,12 +149,22 @@ TorsoFit fitTorso(const std::vector<Eigen::Vector3d>& model_points, const BodyAx
   auto centreOf = [](const CrossSection& s) {
     return Eigen::Vector3d(s.centre.x(), s.height, s.centre.y());
   };
+  // Only sections with points in most sectors, and below g only those down to the first open
+  // one: a section with more holes than points has its centroid anywhere, and under dark trunks
+  // the closed sections below the gap are the thighs with the hands beside them. Below g also
+  // only sections at least kMinBaseline under it: the few closed sections just below the waist
+  // give directions from w_g that a few mm of centroid noise turns by tens of degrees. With
+  // none left, n_lt is the vertical.
+  constexpr double kMinBaseline = 0.05;  // m
+  auto closed = [&](const CrossSection& s) {
+    return s.area > 0 && s.filled_sectors >= options.sectors * 3 / 4;
+  };
   std::vector<Eigen::Vector3d> up, down;
   for (int i = g_index + 1; i <= top; ++i)
-    if (torso.sections[i].area > 0)
+    if (closed(torso.sections[i]))
       up.push_back((centreOf(torso.sections[i]) - torso.waist).normalized());
-  for (int i = base; i < g_index; ++i)
-    if (torso.sections[i].area > 0)
+  for (int i = g_index - 1; i >= base && closed(torso.sections[i]); --i)
+    if (torso.sections[i].height < -kMinBaseline)
       down.push_back((centreOf(torso.sections[i]) - torso.waist).normalized());
   torso.upper_direction = medianDirection(up, Eigen::Vector3d::UnitY());
   torso.lower_direction = medianDirection(down, -Eigen::Vector3d::UnitY());

@@ -111,5 +111,33 @@ TEST(BodyFitter, GoodFitsAreNotFlagged) {
     EXPECT_GT(fit.quality.points_per_segment[s], 100) << segmentInfo(s).name;
 }
 
+TEST(BodyFitter, ImplausibleLimbProportionsAreFlagged) {
+  // The good fit above with its right knee moved 15 % of the leg's length down the leg (as
+  // when the hip lies far off the leg's line) or its left elbow run to the hand.
+  auto spec = eval::simulatedSubjects(2)[1];
+  spec.pose = eval::gaitPose(2, 1.0);
+  eval::ScanRig rig;
+  rig.columns = 200;
+  rig.rows = 162;
+  const auto body = eval::sampleBody(spec, rig);
+  const BodyFit fit = fitBody(body.points);
+  ASSERT_FALSE(fit.quality.low_quality) << fit.quality.reason;
+  BodyModel knee_low = fit.model;
+  const double leg = knee_low.r[kRightUpperLeg] + knee_low.r[kRightLowerLeg];
+  knee_low.r[kRightUpperLeg] += 0.15 * leg;
+  knee_low.r[kRightLowerLeg] -= 0.15 * leg;
+  const FitQuality knee_quality = evaluateFit(knee_low, body.points);
+  EXPECT_TRUE(knee_quality.low_quality);
+  EXPECT_NE(knee_quality.reason.find("right_upper_leg is"), std::string::npos)
+      << knee_quality.reason;
+  BodyModel elbow_at_hand = fit.model;
+  elbow_at_hand.r[kLeftUpperArm] += 0.8 * elbow_at_hand.r[kLeftLowerArm];
+  elbow_at_hand.r[kLeftLowerArm] *= 0.2;
+  const FitQuality elbow_quality = evaluateFit(elbow_at_hand, body.points);
+  EXPECT_TRUE(elbow_quality.low_quality);
+  EXPECT_NE(elbow_quality.reason.find("left_upper_arm is"), std::string::npos)
+      << elbow_quality.reason;
+}
+
 }  // namespace
 }  // namespace body_gait

@@ -21,6 +21,7 @@ TEST(FitOptionsFile, ShippedConfigHoldsTheDefaults) {
   EXPECT_EQ(read.refine, defaults.refine);
   EXPECT_EQ(read.torso.sectors, defaults.torso.sectors);
   EXPECT_DOUBLE_EQ(read.quality.max_rms, defaults.quality.max_rms);
+  EXPECT_DOUBLE_EQ(read.quality.max_leg_share_deviation, defaults.quality.max_leg_share_deviation);
   EXPECT_DOUBLE_EQ(read.axes.shoulder_band_high, defaults.axes.shoulder_band_high);
   EXPECT_EQ(read.refinement.sample_points, defaults.refinement.sample_points);
   EXPECT_DOUBLE_EQ(read.hip_height, defaults.hip_height);

@@ -4,6 +4,7 @@
 #include <body_gait_model/torso_fit.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace body_gait {
@@ -66,6 +67,36 @@ TEST(TorsoFit, TorsoEndsAndLeanMatchTheSimulatedBody) {
     EXPECT_LT(torso.base, hips);  // the lower torso ends at the crotch, above the knees
     EXPECT_GT(torso.base, knees + 0.2);
   }
+}
+
+TEST(TorsoFit, DarkTrunksLeaveTheLowerTorsoDirectionNearTheTruth) {
+  // Trunks that return no light leave only the thighs' and hands' points around the hips: the
+  // open sections' centroids must not steer n_lt (they tilted it by up to 51 deg, and the
+  // legs, split at the lower torso's axis, then got no points). Under these trunks no closed
+  // section lies 5 cm below the waist, so n_lt falls back to the vertical, which the simulated
+  // (always upright) pelvis has.
+  eval::ScanRig rig;
+  rig.columns = 200;
+  rig.rows = 162;
+  rig.min_albedo = 0.3;
+  double worst = 0;
+  for (const auto& subject : eval::simulatedSubjects(4)) {
+    for (int pose = 1; pose <= 4; ++pose) {
+      auto spec = subject;
+      spec.pose = eval::gaitPose(pose, 0.5 + 1.3 * pose);
+      const auto body = eval::sampleBody(spec, rig);
+      const BodyAxes axes = estimateBodyAxes(body.points);
+      std::vector<Eigen::Vector3d> model_points;
+      for (const auto& p : body.points) model_points.push_back(axes.toModel(p));
+      const TorsoFit torso = fitTorso(model_points, axes);
+      // The simulated pelvis stays upright (a lean turns the torso above it): n_lt = -Y_m.
+      const double angle = std::acos(std::clamp(-torso.lower_direction.y(), -1.0, 1.0)) * 180 / kPi;
+      worst = std::max(worst, angle);
+    }
+  }
+  std::printf("[ figure ] dark trunks, 4 subjects x 4 poses: n_lt within %.1f deg of the truth\n",
+              worst);
+  EXPECT_LT(worst, 15.0);
 }
 
 }  // namespace

@@ -22,6 +22,15 @@ struct FitQualityOptions {
   double min_explained_fraction = 0.7;
   double max_rms = 0.035;                // m
   int min_points_per_limb_segment = 50;  // arms, legs
+  // Limb proportions: the upper segment's share of each arm (shoulder-elbow-wrist) and leg
+  // (hip-knee-sole) may differ from the standard (Drillis & Contini: arm 0.186 / 0.44, leg
+  // 0.245 / 0.53) by at most this. The knee lies at the standard share of the hip-to-sole
+  // length along the leg's line, so the leg's share moves only when the hip lies far off that
+  // line (pelvis unseen, e.g. dark trunks: 0.56-0.60 in fits 50-60 mm off; good fits
+  // 0.45-0.49). The elbow follows the bend, so the arm's share varies more (good fits
+  // 0.32-0.51; an elbow run to the hand: 0.94).
+  double max_leg_share_deviation = 0.06;
+  double max_arm_share_deviation = 0.2;
   // Distances are taken on an even subsample of at most this many points (the figures are
   // statistics; points_per_segment is scaled back to the whole cloud).
   int max_points = 100000;

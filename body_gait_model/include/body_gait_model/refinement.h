@@ -14,6 +14,10 @@ struct RefinementOptions {
   int max_iterations = 12;    // per solve
   double huber_scale = 0.02;  // m: beyond this a point counts linearly (hands, feet, hair)
   double min_length = 0.03;   // m: lower bound of every l^r
+  // Each free length stays within this fraction of the direct fit's: refinement adjusts lengths,
+  // it does not find them (with a whole pole missing a wrong direct fit let an upper arm run
+  // away to 5 m).
+  double max_length_change = 0.3;
 };
 
 struct RefinementReport {
