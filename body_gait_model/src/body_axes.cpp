@@ -35,6 +35,47 @@ struct BandMean {
   Eigen::Vector3d mean() const { return sum / count; }
 };
 
+// Height above the lowest point of the highest horizontal slice (1 cm) at least
+// options.shoulder_width * body_height wide in some direction (2nd to 98th percentile of the
+// points' projections on eight horizontal directions), searched from the top down to
+// shoulder_band_low: the top of the shoulders, below the narrower head and neck. Returns
+// options.shoulder_top * body_height if no slice is that wide.
+double shoulderTop(const Cloud& cloud, const Eigen::Vector3d& centroid, const Eigen::Vector3d& up,
+                   const Eigen::Vector3d& u, double lowest, double body_height,
+                   const BodyAxesOptions& options) {
+  constexpr double kSlice = 0.01;
+  constexpr int kDirections = 8;
+  const Eigen::Vector3d v = up.cross(u);
+  const double floor_of_search = options.shoulder_band_low * body_height;
+  const int slices = int(std::ceil((body_height - floor_of_search) / kSlice)) + 1;
+  std::vector<std::vector<Eigen::Vector2d>> planar(std::max(slices, 1));
+  for (const auto& point : cloud) {
+    const Eigen::Vector3d offset = point - centroid;
+    const double above_floor = offset.dot(up) - lowest;
+    if (above_floor < floor_of_search) continue;
+    const int slice = std::min(int((body_height - above_floor) / kSlice), slices - 1);
+    planar[slice].emplace_back(offset.dot(u), offset.dot(v));
+  }
+  std::vector<double> projections;
+  for (int slice = 0; slice < slices; ++slice) {
+    if (planar[slice].size() < 20) continue;
+    double widest = 0;
+    for (int k = 0; k < kDirections; ++k) {
+      const double angle = k * 3.141592653589793 / kDirections;
+      const Eigen::Vector2d direction(std::cos(angle), std::sin(angle));
+      projections.clear();
+      for (const auto& p : planar[slice]) projections.push_back(p.dot(direction));
+      const size_t low = projections.size() / 50, high = projections.size() - 1 - low;
+      std::nth_element(projections.begin(), projections.begin() + low, projections.end());
+      const double low_value = projections[low];
+      std::nth_element(projections.begin(), projections.begin() + high, projections.end());
+      widest = std::max(widest, projections[high] - low_value);
+    }
+    if (widest >= options.shoulder_width * body_height) return body_height - (slice + 0.5) * kSlice;
+  }
+  return options.shoulder_top * body_height;
+}
+
 }  // namespace
 
 BodyAxes estimateBodyAxes(const Cloud& cloud, const BodyAxesOptions& options) {
@@ -73,6 +114,13 @@ BodyAxes estimateBodyAxes(const Cloud& cloud, const BodyAxesOptions& options) {
   const Eigen::Vector3d seed =
       std::abs(up.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   const Eigen::Vector3d u = up.cross(seed).normalized(), v = up.cross(u);
+  // The band is placed below the shoulders' top, found from above as the first slice as wide as
+  // shoulders: the cloud's top (a crown above the highest viewpoints may be missing) would move
+  // a band at a fixed fraction of the measured height down onto the chest and the swinging arms.
+  const double shoulder_shift =
+      shoulderTop(cloud, result.centroid, up, u, lowest, body_height, options) -
+      options.shoulder_top * body_height;
+  result.shoulder_top = lowest + options.shoulder_top * body_height + shoulder_shift;
   // The torso's own points in the band: per radial sector around the band's centre, only those
   // within kSectorDepth of the sector's closest point (as the cross-sections of 5.5.2 do), so
   // that arms hanging outside the torso do not skew the axes.
@@ -80,7 +128,7 @@ BodyAxes estimateBodyAxes(const Cloud& cloud, const BodyAxesOptions& options) {
   Eigen::Vector2d band_centre = Eigen::Vector2d::Zero();
   for (const auto& point : cloud) {
     const Eigen::Vector3d offset = point - result.centroid;
-    const double above_floor = offset.dot(up) - lowest;
+    const double above_floor = offset.dot(up) - lowest - shoulder_shift;
     if (above_floor < options.shoulder_band_low * body_height ||
         above_floor > options.shoulder_band_high * body_height)
       continue;
@@ -103,13 +151,25 @@ BodyAxes estimateBodyAxes(const Cloud& cloud, const BodyAxesOptions& options) {
   std::vector<double> closest(kSectors, 1e9);
   for (const auto& planar : band)
     closest[sectorOf(planar)] = std::min(closest[sectorOf(planar)], (planar - band_centre).norm());
+  // Each sector's kept points stand for the outline by their mean, one vertex per sector: the
+  // moments of the outline, not of the points, whose density varies over the surface with the
+  // viewpoints (the full scanner sees a turned subject's shoulders obliquely from some poles).
+  std::vector<Eigen::Vector2d> sector_sum(kSectors, Eigen::Vector2d::Zero());
+  std::vector<int> sector_count(kSectors, 0);
+  for (const auto& planar : band) {
+    const int sector = sectorOf(planar);
+    if ((planar - band_centre).norm() > closest[sector] + kSectorDepth) continue;
+    sector_sum[sector] += planar;
+    ++sector_count[sector];
+  }
   Eigen::Vector2d band_sum = Eigen::Vector2d::Zero();
   Eigen::Matrix2d band_outer = Eigen::Matrix2d::Zero();
   int band_count = 0;
-  for (const auto& planar : band) {
-    if ((planar - band_centre).norm() > closest[sectorOf(planar)] + kSectorDepth) continue;
-    band_sum += planar;
-    band_outer += planar * planar.transpose();
+  for (int sector = 0; sector < kSectors; ++sector) {
+    if (sector_count[sector] == 0) continue;
+    const Eigen::Vector2d vertex = sector_sum[sector] / sector_count[sector];
+    band_sum += vertex;
+    band_outer += vertex * vertex.transpose();
     ++band_count;
   }
   const Eigen::Vector2d band_mean = band_sum / band_count;
