@@ -228,6 +228,7 @@ BodyAxes estimateBodyAxes(const Cloud& cloud, const BodyAxesOptions& options) {
   result.axes.col(2) = front;
   result.lowest = lowest;
   result.highest = highest;
+  result.stature = std::max(body_height, (result.shoulder_top - lowest) / options.shoulder_top);
   return result;
 }
 

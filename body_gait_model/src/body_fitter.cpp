@@ -386,7 +386,7 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
   // Hips: inside the pelvis, unseen. Height by proportion; depth on the lower torso's axis; each
   // hip above the centre of its thigh's top 10 cm (a thigh line extrapolated up from a low
   // crotch swings wildly when the knee is bent).
-  const double hip_y = axes.lowest + options.hip_height * body_height;
+  const double hip_y = axes.lowest + options.hip_height * axes.stature;
   const Eigen::Vector3d pelvis_centre = Line{torso.waist, torso.lower_direction}.atHeight(hip_y);
   auto thighTopX = [&](Part leg) {
     double top = -1e9;
@@ -517,7 +517,9 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
   model.r[kUpperTorso] = torso.top / std::max(torso.upper_direction.y(), 0.5);
   model.r[kLowerTorso] = -torso.base / std::max(-torso.lower_direction.y(), 0.5);
   model.r[kNeck] = std::max(chin - torso.top, 0.01) / std::max(torso.upper_direction.y(), 0.5);
-  model.r[kHead] = std::max(head_top - chin, 0.05) / std::max(head_direction.y(), 0.5);
+  // The crown may lie above the highest viewpoints' sight: at the stature the axes estimated.
+  const double crown = std::max(head_top, axes.lowest + axes.stature);
+  model.r[kHead] = std::max(crown - chin, 0.05) / std::max(head_direction.y(), 0.5);
   setSegment(kUpperTorso, toWorldDirection(torso.upper_direction));
   setSegment(kLowerTorso, toWorldDirection(torso.lower_direction));
   setSegment(kHead, toWorldDirection(head_direction));
@@ -579,7 +581,7 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
     fit.joint_points.push_back({limb_info.middle, middle});
     fit.joint_points.push_back({limb_info.distal, distal});
   }
-  fit.joint_points.push_back({"head_top", axes.toWorld(upper_axis.atHeight(head_top))});
+  fit.joint_points.push_back({"head_top", axes.toWorld(upper_axis.atHeight(crown))});
   if (options.refine) {
     Cloud without_feet;
     without_feet.reserve(cloud.size());

@@ -35,6 +35,9 @@ struct BodyAxes {
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
   double lowest = 0, highest = 0;  // extent of the cloud along Y_m, model coordinates
   double shoulder_top = 0;         // top of the shoulders along Y_m, model coordinates
+  // The subject's height: the cloud's extent, or more where the shoulders' top lies lower in it
+  // than on a whole body (a crown above the highest viewpoints missing from the cloud).
+  double stature = 0;
   // How far (m) the feet reach ahead of their shank axes along +Z_m: the front/back evidence.
   double foot_reach = 0;
   Eigen::Vector3d pca_vertical = Eigen::Vector3d::UnitZ();  // e_1 of 5.5.1, for reports
