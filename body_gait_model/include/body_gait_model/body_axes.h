@@ -24,8 +24,9 @@ struct BodyAxesOptions {
   // subject stands on the floor, and in the long-stride poses of 5.3 the asymmetric limbs tilt
   // e_1 by up to 7.5 degrees (test_body_axes), which skews every later cross-section.
   bool vertical_from_floor = true;
-  // Foot and lower-shank bands, as fractions of the body height above the lowest point.
-  double foot_band = 0.06, shank_band_low = 0.08, shank_band_high = 0.18;
+  // Foot and lower-shank bands, as fractions of the body height above the leg's lowest point,
+  // and the radius (* body height) around the shank's line within which foot points count.
+  double foot_band = 0.06, shank_band_low = 0.08, shank_band_high = 0.18, foot_radius = 0.15;
 };
 
 struct BodyAxes {
