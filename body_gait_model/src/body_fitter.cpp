@@ -467,7 +467,10 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
     head_top = std::max(head_top, (chin - kChinToVertex * axes.lowest) / (1 - kChinToVertex));
   else if (head_count > 10)
     head_direction = (head_centroid / head_count - chin_centre).normalized();
-  const double stature = head_top - axes.lowest;  // body_height, or more with the hair unseen
+  // The stature: up to the vertex found (placed from the chin when the hair is unseen), or the
+  // axes' estimate from the shoulders' top when the crown lies above the highest viewpoints'
+  // sight (tall subjects under the full scanner's top pairs).
+  const double stature = std::max(head_top - axes.lowest, axes.stature);
 
   // Hips: inside the pelvis, unseen. Height by proportion; depth on the lower torso's axis; each
   // hip above the centre of its thigh's top 10 cm (a thigh line extrapolated up from a low
@@ -569,7 +572,8 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
   model.r[kUpperTorso] = torso.top / std::max(torso.upper_direction.y(), 0.5);
   model.r[kLowerTorso] = -torso.base / std::max(-torso.lower_direction.y(), 0.5);
   model.r[kNeck] = std::max(chin - torso.top, 0.01) / std::max(torso.upper_direction.y(), 0.5);
-  model.r[kHead] = std::max(head_top - chin, 0.05) / std::max(head_direction.y(), 0.5);
+  const double crown = axes.lowest + stature;
+  model.r[kHead] = std::max(crown - chin, 0.05) / std::max(head_direction.y(), 0.5);
   setSegment(kUpperTorso, toWorldDirection(torso.upper_direction));
   setSegment(kLowerTorso, toWorldDirection(torso.lower_direction));
   setSegment(kHead, toWorldDirection(head_direction));
@@ -631,7 +635,7 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
     fit.joint_points.push_back({limb_info.middle, middle});
     fit.joint_points.push_back({limb_info.distal, distal});
   }
-  fit.joint_points.push_back({"head_top", axes.toWorld(upper_axis.atHeight(head_top))});
+  fit.joint_points.push_back({"head_top", axes.toWorld(upper_axis.atHeight(crown))});
   if (options.refine) {
     Cloud without_feet;
     without_feet.reserve(cloud.size());

@@ -68,8 +68,11 @@ FitOptions loadFitOptions(const std::string& path) {
   Section axes(path, "axes.");
   axes.field("shoulder_band_low", options.axes.shoulder_band_low)
       .field("shoulder_band_high", options.axes.shoulder_band_high)
+      .field("shoulder_width", options.axes.shoulder_width)
+      .field("shoulder_top", options.axes.shoulder_top)
       .field("vertical_from_floor", options.axes.vertical_from_floor)
       .field("foot_band", options.axes.foot_band)
+      .field("foot_radius", options.axes.foot_radius)
       .field("shank_band_low", options.axes.shank_band_low)
       .field("shank_band_high", options.axes.shank_band_high);
   Section torso(path, "torso.");

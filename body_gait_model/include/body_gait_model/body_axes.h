@@ -16,12 +16,17 @@ struct BodyAxesOptions {
   // centres at 0.818 of stature), the torso's widest and flattest section. Lower (chest) bands
   // were measured to be nearly round in the point distribution once the arms cover its sides.
   double shoulder_band_low = 0.77, shoulder_band_high = 0.83;
+  // The band's heights hold for a body whose shoulders' top (the highest slice at least
+  // shoulder_width * body height wide) lies at shoulder_top of the height; the band moves with
+  // the top found in the cloud (a crown missing from the scan shortens the measured height).
+  double shoulder_width = 0.16, shoulder_top = 0.845;
   // Take the vertical axis from the scanner's floor frame (world +z) instead of e_1. The
   // subject stands on the floor, and in the long-stride poses of 5.3 the asymmetric limbs tilt
   // e_1 by up to 7.5 degrees (test_body_axes), which skews every later cross-section.
   bool vertical_from_floor = true;
-  // Foot and lower-shank bands, as fractions of the body height above the lowest point.
-  double foot_band = 0.06, shank_band_low = 0.08, shank_band_high = 0.18;
+  // Foot and lower-shank bands, as fractions of the body height above the leg's lowest point,
+  // and the radius (* body height) around the shank's line within which foot points count.
+  double foot_band = 0.06, shank_band_low = 0.08, shank_band_high = 0.18, foot_radius = 0.15;
 };
 
 struct BodyAxes {
@@ -30,6 +35,10 @@ struct BodyAxes {
   // Z_m (sagittal, toward the front). Right-handed.
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
   double lowest = 0, highest = 0;  // extent of the cloud along Y_m, model coordinates
+  double shoulder_top = 0;         // top of the shoulders along Y_m, model coordinates
+  // The subject's height: the cloud's extent, or more where the shoulders' top lies lower in it
+  // than on a whole body (a crown above the highest viewpoints missing from the cloud).
+  double stature = 0;
   // How far (m) the feet reach ahead of their shank axes along +Z_m: the front/back evidence.
   double foot_reach = 0;
   Eigen::Vector3d pca_vertical = Eigen::Vector3d::UnitZ();  // e_1 of 5.5.1, for reports
