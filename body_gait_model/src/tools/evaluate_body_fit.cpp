@@ -6,7 +6,7 @@
 //                     [--missing-viewpoints i,j,...] [--abduction-deg D] [--direct 1]
 //                     [--test-headings 1] [--per-joint 1] [--full-scanner 1]
 //                     [--missing-pairs pole_c/pair_2,...] [--only SUBJECT]
-//                     [--clouds DIR] [--rig RIG.yaml] [--out report.yaml]
+//                     [--clouds DIR] [--rig RIG.yaml] [--dark-albedo A] [--out report.yaml]
 //
 // After the summary: per joint the mean error and mean offset (fitted - true) in the true body
 // frame (forward, left, up), per limb segment the mean absolute and signed length error.
@@ -15,7 +15,8 @@
 // with the simulated full scanner (the thesis rig's 12 pairs, as test_full_scanner_fit; headings
 // within +-46 deg of the rig's front) instead of the ray-cast sampler (--columns, --noise,
 // --min-albedo and --missing-viewpoints are the sampler's); --missing-pairs leaves pairs out;
-// --rig scans with another rig file than the thesis rig.
+// --rig scans with another rig file than the thesis rig; --dark-albedo sets the albedo of the
+// hair and the trunks (default 0.15; below ~0.05 the full scanner decodes little of them).
 // --only runs one subject (e.g. subject_9); --clouds writes every case's cloud to
 // DIR/<subject>_pose<k>.ply (world frame) for a look in rviz or a viewer.
 #include <body_gait_model/body_fitter.h>
@@ -64,6 +65,7 @@ int main(int argc, char** argv) {
   bool test_headings = false, per_joint = false, full_scanner = false;
   body_gait::eval::FullScannerOptions scanner;
   std::string only, clouds;
+  double dark_albedo = -1;
   body_gait::FitOptions options;
   body_gait::eval::ScanRig rig;
   rig.noise_sigma = 0.002;
@@ -97,6 +99,8 @@ int main(int argc, char** argv) {
     } else if (flag == "--missing-pairs") {
       std::stringstream list(value);
       for (std::string id; std::getline(list, id, ',');) scanner.missing_pairs.push_back(id);
+    } else if (flag == "--dark-albedo") {
+      dark_albedo = number(value, flag);
     } else if (flag == "--rig") {
       scanner.rig_file = value;
     } else if (flag == "--only") {
@@ -139,6 +143,8 @@ int main(int argc, char** argv) {
       spec.pose = body_gait::eval::gaitPose(
           pose, full_scanner ? body_gait::eval::fullScannerHeading(cases + cases_skipped)
                              : 0.3 + 1.7 * (test_headings ? pose : pose + cases + cases_skipped));
+      if (dark_albedo >= 0)
+        spec.materials.hair.albedo = spec.materials.clothing.albedo = dark_albedo;
       if (abduction_deg >= 0)
         spec.pose.left_shoulder_abduction = spec.pose.right_shoulder_abduction =
             abduction_deg * kPi / 180;
