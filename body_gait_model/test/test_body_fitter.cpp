@@ -96,13 +96,18 @@ TEST(BodyFitter, ACylinderIsFlaggedLowQuality) {
               fit.quality.reason.c_str());
 }
 
-TEST(BodyFitter, GoodFitsAreNotFlagged) {
+// The body of the good-fit checks: subject 1 of 2 in gait pose 2, a 200 x 162 ray grid.
+eval::SampledBody goodFitBody() {
   auto spec = eval::simulatedSubjects(2)[1];
   spec.pose = eval::gaitPose(2, 1.0);
   eval::ScanRig rig;
   rig.columns = 200;
   rig.rows = 162;
-  const BodyFit fit = fitBody(eval::sampleBody(spec, rig).points);
+  return eval::sampleBody(spec, rig);
+}
+
+TEST(BodyFitter, GoodFitsAreNotFlagged) {
+  const BodyFit fit = fitBody(goodFitBody().points);
   std::printf("[ figure ] good fit: RMS %.1f mm, %.0f %% explained, low quality %d %s\n",
               1000 * fit.quality.rms_distance, 100 * fit.quality.explained_fraction,
               fit.quality.low_quality, fit.quality.reason.c_str());
@@ -114,12 +119,7 @@ TEST(BodyFitter, GoodFitsAreNotFlagged) {
 TEST(BodyFitter, ImplausibleLimbProportionsAreFlagged) {
   // The good fit above with its right knee moved 15 % of the leg's length down the leg (as
   // when the hip lies far off the leg's line) or its left elbow run to the hand.
-  auto spec = eval::simulatedSubjects(2)[1];
-  spec.pose = eval::gaitPose(2, 1.0);
-  eval::ScanRig rig;
-  rig.columns = 200;
-  rig.rows = 162;
-  const auto body = eval::sampleBody(spec, rig);
+  const auto body = goodFitBody();
   const BodyFit fit = fitBody(body.points);
   ASSERT_FALSE(fit.quality.low_quality) << fit.quality.reason;
   BodyModel knee_low = fit.model;
