@@ -8,6 +8,8 @@
 //   FullScan/decode_triangulate   our 12 decodes + triangulations alone
 //   FullScan/merge                the merge alone
 //   FullScan/merge_pcl_voxel      the merge with PCL's VoxelGrid instead of ours
+//   FullScan/merge_fresh          the merge with a new CloudMerger every time (a node's first
+//                                 scan): its ~100 MB of buffers are touched for the first time
 // scripts/bench_report.py prints every case's median over FullScan/ours.
 #include <benchmark/benchmark.h>
 #include <body_scan_driver/sim/rig.h>
@@ -140,6 +142,18 @@ void mergePclVoxel(benchmark::State& state) {
   state.counters["points"] = static_cast<double>(points);
 }
 
+void mergeFresh(benchmark::State& state) {
+  RigScan& s = rigScan();
+  decodeTriangulateOurs(s);
+  size_t points = 0;
+  for (auto _ : state) {
+    std::vector<CloudView> views;
+    for (size_t i = 0; i < s.clouds.size(); ++i) views.push_back(viewOf(s, i));
+    points = mergeClouds(views, MergeOptions()).size();
+  }
+  state.counters["points"] = static_cast<double>(points);
+}
+
 void opencvGetProjPixel(benchmark::State& state) {
   RigScan& s = rigScan();
   // 256 x 2 projector: x from our 8 pattern/inverse pairs, a 1-bit y from a repeated pair.
@@ -179,6 +193,7 @@ void registerAll() {
   add("decode_triangulate", decodeTriangulate);
   add("merge", mergeOnly);
   add("merge_pcl_voxel", mergePclVoxel);
+  add("merge_fresh", mergeFresh);
 }
 
 }  // namespace
