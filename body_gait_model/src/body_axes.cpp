@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "order_statistics.h"
+
 namespace body_gait {
 namespace {
 
@@ -206,23 +208,12 @@ BodyAxes estimateBodyAxes(const Cloud& cloud, const BodyAxesOptions& options) {
     shank_band[side][above_floor >= mid ? 1 : 0].emplace_back(offset.dot(left), above_floor,
                                                               offset.dot(front));
   }
-  auto medianCentre = [](std::vector<Eigen::Vector3d>& points) {
-    Eigen::Vector3d centre;
-    for (int axis = 0; axis < 3; ++axis) {
-      std::vector<double> values;
-      values.reserve(points.size());
-      for (const auto& p : points) values.push_back(p[axis]);
-      std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-      centre[axis] = values[values.size() / 2];
-    }
-    return centre;
-  };
   bool has_line[2] = {false, false};
   Eigen::Vector3d line_low[2], line_high[2];
   for (int side = 0; side < 2; ++side) {
     if (shank_band[side][0].size() < 20 || shank_band[side][1].size() < 20) continue;
-    line_low[side] = medianCentre(shank_band[side][0]);
-    line_high[side] = medianCentre(shank_band[side][1]);
+    line_low[side] = componentMedian(shank_band[side][0]);
+    line_high[side] = componentMedian(shank_band[side][1]);
     has_line[side] = std::abs(line_high[side].y() - line_low[side].y()) > 1e-6;
   }
   double reach_sum[2] = {0, 0};

@@ -10,6 +10,8 @@
 #include <string>
 #include <tuple>
 
+#include "order_statistics.h"
+
 namespace body_gait {
 namespace {
 
@@ -121,9 +123,7 @@ LimbFit fitLimb(std::vector<Eigen::Vector3d> points, const std::vector<Eigen::Ve
   std::vector<double> tip_along;
   for (const auto& p : tip_points) tip_along.push_back((p - axis.point).dot(axis.direction));
   if (tip_along.empty()) tip_along = along;
-  const size_t tip_index = size_t(0.995 * (tip_along.size() - 1));
-  std::nth_element(tip_along.begin(), tip_along.begin() + tip_index, tip_along.end());
-  const double end = tip_along[tip_index];
+  const double end = quantile(tip_along, 0.995);
   const double length = end - start;
   double best_cost = std::numeric_limits<double>::infinity();
   size_t best_split = 0;
@@ -210,9 +210,7 @@ LimbFit fitLimb(std::vector<Eigen::Vector3d> points, const std::vector<Eigen::Ve
   std::vector<double> reach;
   for (size_t i = best_split; i < points.size(); ++i)
     reach.push_back((points[i] - limb.middle_joint).dot(limb.lower.direction));
-  std::nth_element(reach.begin(), reach.begin() + size_t(0.995 * (reach.size() - 1)), reach.end());
-  limb.distal_end =
-      limb.middle_joint + reach[size_t(0.995 * (reach.size() - 1))] * limb.lower.direction;
+  limb.distal_end = limb.middle_joint + quantile(reach, 0.995) * limb.lower.direction;
   // Radii: mean distance to the line over each half of each part.
   auto radii = [&](size_t from, size_t to, const Line& line, double* out) {
     const size_t middle = (from + to) / 2;
@@ -534,10 +532,8 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
         std::vector<double> reach;
         for (const auto& p : limb_points[limb])
           reach.push_back((p - limbs[limb].middle_joint).dot(limbs[limb].lower.direction));
-        const size_t index = size_t(0.995 * (reach.size() - 1));
-        std::nth_element(reach.begin(), reach.begin() + index, reach.end());
         limbs[limb].distal_end =
-            limbs[limb].middle_joint + reach[index] * limbs[limb].lower.direction;
+            limbs[limb].middle_joint + quantile(reach, 0.995) * limbs[limb].lower.direction;
       }
     }
     if (!limbs[limb].valid)

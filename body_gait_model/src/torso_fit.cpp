@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "order_statistics.h"
+
 namespace body_gait {
 namespace {
 
@@ -15,13 +17,7 @@ constexpr double kPi = 3.14159265358979323846;
 Eigen::Vector3d medianDirection(std::vector<Eigen::Vector3d> directions,
                                 const Eigen::Vector3d& fallback) {
   if (directions.empty()) return fallback;
-  Eigen::Vector3d median;
-  for (int axis = 0; axis < 3; ++axis) {
-    std::vector<double> values;
-    for (const auto& d : directions) values.push_back(d[axis]);
-    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-    median[axis] = values[values.size() / 2];
-  }
+  const Eigen::Vector3d median = componentMedian(directions);
   return median.norm() > 0 ? median.normalized() : fallback;
 }
 

@@ -181,9 +181,8 @@ void CloudMerger::voxelGrid(const std::vector<Points>& parts, double leaf, const
   // Each thread sorts and reduces about half of the points: the buckets below / from `split`.
   const size_t split = static_cast<size_t>(
       std::lower_bound(bucket_start.begin(), bucket_start.end(), n / 2) - bucket_start.begin());
-  std::vector<float> upper;
   onTwoThreads([&](int t) {
-    std::vector<float>& out = t == 0 ? upper : xyzrgb;
+    std::vector<float>& out = t == 0 ? upper_half_ : xyzrgb;
     out.clear();
     // key << 32 | index in the bucket, sorted by a stable LSD radix sort of the key's bits
     // below `shift` (the bits above are the bucket's): ties keep input order.
@@ -220,7 +219,7 @@ void CloudMerger::voxelGrid(const std::vector<Points>& parts, double leaf, const
       }
     }
   });
-  xyzrgb.insert(xyzrgb.end(), upper.begin(), upper.end());
+  xyzrgb.insert(xyzrgb.end(), upper_half_.begin(), upper_half_.end());
 }
 
 void voxelGrid(std::vector<float>& xyzrgb, double leaf) {

@@ -102,6 +102,7 @@ class CloudMerger {
   std::vector<Record> records_;           // every point, grouped by bucket of keys
   std::vector<uint32_t> keys_;            // per point: its voxel key
   std::vector<size_t> bucket_offsets_;    // per chunk of input and bucket: where it goes
+  std::vector<float> upper_half_;         // the upper buckets' voxels, before they are appended
 };
 
 // A merge with buffers of its own (tests, tools).
