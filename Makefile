@@ -14,6 +14,8 @@
 #   make bench   build + run every build/devel/lib/*/bench_* (JSON into build/bench/);
 #                BENCH_ARGS="..." is passed to each (e.g. --benchmark_filter=plane/hot)
 #   make format  clang-format -i every C++ file of the packages
+#   make fuzz    build the BVH reader's libFuzzer target with clang (build/fuzz/fuzz_bvh) and
+#                run it FUZZ_SECONDS (default 60) on its seed corpus; findings in build/fuzz/
 #   make clean   remove build/
 
 SHELL := /bin/bash
@@ -82,7 +84,7 @@ define install_missing
 	fi
 endef
 
-.PHONY: deps build test demo bench format clean
+.PHONY: deps build test demo bench format clean fuzz
 
 # deps: install the Debian packages in DEB_PACKAGES that are missing (idempotent).
 deps:
@@ -152,6 +154,23 @@ format:
 	$(call install_missing,$(FORMAT_PACKAGES))
 	@files=$$(find $(PACKAGES) -type f \( -name '*.cpp' -o -name '*.h' -o -name '*.hpp' \)); \
 	if [ -n "$$files" ]; then clang-format -i --style=file $$files; fi
+
+# fuzz: the BVH reader (body_scan_driver/src/sim/bvh.cpp) under libFuzzer with AddressSanitizer
+# and UBSan, outside catkin (clang only). The corpus grows in build/fuzz/corpus (seeded from
+# body_scan_driver/fuzz/corpus and ../shared/data/bvh when present); crashes are written to
+# build/fuzz/crash-*. test_bvh runs the same entry point over the seeds in CI.
+FUZZ_SECONDS ?= 60
+FUZZ_CXX ?= clang++
+fuzz:
+	@mkdir -p $(BUILD_DIR)/fuzz/corpus
+	$(FUZZ_CXX) -std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
+	  -Ibody_scan_driver/include -I/usr/include/eigen3 \
+	  body_scan_driver/fuzz/fuzz_bvh.cpp body_scan_driver/src/sim/bvh.cpp \
+	  -o $(BUILD_DIR)/fuzz/fuzz_bvh
+	cp -n body_scan_driver/fuzz/corpus/* $(BUILD_DIR)/fuzz/corpus/
+	-cp -n ../shared/data/bvh/*.bvh $(BUILD_DIR)/fuzz/corpus/ 2>/dev/null
+	cd $(BUILD_DIR)/fuzz && ./fuzz_bvh -max_total_time=$(FUZZ_SECONDS) -max_len=200000 \
+	  -rss_limit_mb=2048 -print_final_stats=1 corpus
 
 # clean: remove everything built (build/, including devel space, test results, benchmarks).
 clean:

@@ -117,35 +117,15 @@ Eigen::Matrix3d aboutAxis(const Eigen::Vector3d& axis, double angle) {
   return Eigen::AngleAxisd(angle, axis).toRotationMatrix();
 }
 
-// A rigid frame posed in the world: world point = origin + rotation * local point.
-struct Frame {
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-
-  Eigen::Vector3d at(double x, double y, double z) const {
-    return origin + rotation * Eigen::Vector3d(x, y, z);
-  }
-  // A frame attached at a local point, turned by local_rotation relative to this one.
-  Frame child(const Eigen::Vector3d& local_origin,
-              const Eigen::Matrix3d& local_rotation = Eigen::Matrix3d::Identity()) const {
-    return {rotation * local_rotation, origin + rotation * local_origin};
-  }
-};
-
-// The posed segment frames. Trunk frames have z up; limb frames sit on the proximal joint with
-// the bone along local -z and local x toward the segment's front. Index 0 = left, 1 = right.
-struct PosedBody {
-  Frame pelvis;  // midpoint of the hip joints
-  Frame torso;   // same origin, leaned: carries the abdomen, chest and arms
-  Frame neck;    // middle of the shoulder line, flexed: carries the neck and head
-  Frame upper_arm[2], forearm[2], hand[2], thigh[2], shank[2], foot[2];
-};
+using Frame = SegmentFrame;
+using PosedBody = BodySegmentFrames;
 
 const char* const kSideNames[2] = {"left", "right"};
 constexpr double kSideSign[2] = {1.0, -1.0};  // +y is the subject's left
 
 PosedBody forwardKinematics(const HumanBodySpec& spec) {
   validate(spec.body);
+  if (spec.segment_frames) return *spec.segment_frames;
   const Anthropometry& b = spec.body;
   const BodyPose& p = spec.pose;
   const Eigen::Vector3d x_axis = Eigen::Vector3d::UnitX(), y_axis = Eigen::Vector3d::UnitY();
@@ -182,9 +162,15 @@ PosedBody forwardKinematics(const HumanBodySpec& spec) {
   return body;
 }
 
-Eigen::Vector3d toeIn(const Frame& foot, const Anthropometry& b) {
-  return foot.at((1 - kHeelBehindAnkle) * b.foot_length, 0,
-                 -kFootCentreBelowAnkle * b.ankle_height);
+// One side's limb length: the measured skeleton's if it has one, else the body's.
+double sideLength(const PosedBody& body, int side, double PosedBody::Lengths::*measured,
+                  const Anthropometry& b, double Anthropometry::*common) {
+  const double length = body.side_lengths[side].*measured;
+  return length > 0 ? length : b.*common;
+}
+
+Eigen::Vector3d toeIn(const Frame& foot, double foot_length, const Anthropometry& b) {
+  return foot.at((1 - kHeelBehindAnkle) * foot_length, 0, -kFootCentreBelowAnkle * b.ankle_height);
 }
 
 std::vector<SkeletonJoint> skeletonOf(const PosedBody& body, const Anthropometry& b) {
@@ -199,11 +185,15 @@ std::vector<SkeletonJoint> skeletonOf(const PosedBody& body, const Anthropometry
     joints.push_back({prefix + "shoulder", body.upper_arm[side].origin});
     joints.push_back({prefix + "elbow", body.forearm[side].origin});
     joints.push_back({prefix + "wrist", body.hand[side].origin});
-    joints.push_back({prefix + "hand_tip", body.hand[side].at(0, 0, -b.hand_length)});
+    const double hand_length =
+        sideLength(body, side, &PosedBody::Lengths::hand, b, &Anthropometry::hand_length);
+    joints.push_back({prefix + "hand_tip", body.hand[side].at(0, 0, -hand_length)});
     joints.push_back({prefix + "hip", body.thigh[side].origin});
     joints.push_back({prefix + "knee", body.shank[side].origin});
     joints.push_back({prefix + "ankle", body.foot[side].origin});
-    joints.push_back({prefix + "toe", toeIn(body.foot[side], b)});
+    const double foot_length =
+        sideLength(body, side, &PosedBody::Lengths::foot, b, &Anthropometry::foot_length);
+    joints.push_back({prefix + "toe", toeIn(body.foot[side], foot_length, b)});
   }
   return joints;
 }
@@ -224,6 +214,121 @@ double radiusOfGirth(double girth) { return girth / (2 * kPi); }
 
 std::vector<SkeletonJoint> humanSkeleton(const HumanBodySpec& spec) {
   return skeletonOf(forwardKinematics(spec), spec.body);
+}
+
+namespace {
+
+// A limb frame on `proximal` with the bone along local -z toward `distal` and local x toward the
+// segment's front (the orientation's first column, made perpendicular to the bone).
+Frame limbFrame(const Eigen::Vector3d& proximal, const Eigen::Vector3d& distal,
+                const Eigen::Matrix3d& orientation) {
+  const Eigen::Vector3d z = (proximal - distal).normalized();
+  const Eigen::Vector3d front = orientation.col(0);
+  Eigen::Vector3d x = front - front.dot(z) * z;
+  // A front along the bone (degenerate): fall back on the segment's up direction.
+  if (x.norm() < 1e-6) x = orientation.col(2) - orientation.col(2).dot(z) * z;
+  x.normalize();
+  Frame frame;
+  frame.origin = proximal;
+  frame.rotation.col(0) = x;
+  frame.rotation.col(1) = z.cross(x);
+  frame.rotation.col(2) = z;
+  return frame;
+}
+
+// A trunk frame on `origin` with z toward `top` and y toward `left` (made perpendicular to z).
+Frame trunkFrame(const Eigen::Vector3d& origin, const Eigen::Vector3d& top,
+                 const Eigen::Vector3d& left) {
+  const Eigen::Vector3d z = (top - origin).normalized();
+  const Eigen::Vector3d y = (left - left.dot(z) * z).normalized();
+  Frame frame;
+  frame.origin = origin;
+  frame.rotation.col(0) = y.cross(z);
+  frame.rotation.col(1) = y;
+  frame.rotation.col(2) = z;
+  return frame;
+}
+
+}  // namespace
+
+void poseBodyOnSkeleton(const SkeletonPose& skeleton, HumanBodySpec& spec) {
+  auto joint = [&](const std::string& name) -> const Eigen::Vector3d& {
+    const auto found = skeleton.joints.find(name);
+    if (found == skeleton.joints.end() || !found->second.allFinite())
+      throw std::invalid_argument("poseBodyOnSkeleton: joint '" + name +
+                                  "' is missing or not finite (map it in the joint map)");
+    return found->second;
+  };
+  auto orientation = [&](const std::string& segment) -> const Eigen::Matrix3d& {
+    const auto found = skeleton.orientations.find(segment);
+    if (found == skeleton.orientations.end() || !found->second.allFinite())
+      throw std::invalid_argument("poseBodyOnSkeleton: orientation of segment '" + segment +
+                                  "' is missing or not finite");
+    return found->second;
+  };
+  Anthropometry& b = spec.body;
+  PosedBody body;
+  const Eigen::Vector3d hip_mid = (joint("left_hip") + joint("right_hip")) / 2;
+  const Eigen::Vector3d shoulder_mid = (joint("left_shoulder") + joint("right_shoulder")) / 2;
+  const Eigen::Vector3d hip_line = joint("left_hip") - joint("right_hip");
+  const Eigen::Vector3d shoulder_line = joint("left_shoulder") - joint("right_shoulder");
+  body.pelvis = trunkFrame(hip_mid, hip_mid + orientation("pelvis").col(2), hip_line);
+  body.torso = trunkFrame(hip_mid, shoulder_mid, shoulder_line);
+  body.neck = trunkFrame(shoulder_mid, joint("head_top"), shoulder_line);
+  b.hip_width = hip_line.norm();
+  b.shoulder_width = shoulder_line.norm();
+  b.torso_length = (shoulder_mid - hip_mid).norm();
+  // Shoulder line to vertex, split as in fromStature (neck 0.052 H, head 0.130 H).
+  const double neck_and_head = (joint("head_top") - shoulder_mid).norm();
+  b.head_height = neck_and_head * 0.130 / (0.130 + 0.052);
+  b.neck_length = neck_and_head - b.head_height;
+  for (int side = 0; side < 2; ++side) {
+    const std::string prefix = std::string(kSideNames[side]) + "_";
+    const Eigen::Vector3d &shoulder = joint(prefix + "shoulder"), &elbow = joint(prefix + "elbow"),
+                          &wrist = joint(prefix + "wrist"), &tip = joint(prefix + "hand_tip"),
+                          &hip = joint(prefix + "hip"), &knee = joint(prefix + "knee"),
+                          &ankle = joint(prefix + "ankle"), &toe = joint(prefix + "toe");
+    body.upper_arm[side] = limbFrame(shoulder, elbow, orientation(prefix + "upper_arm"));
+    body.forearm[side] = limbFrame(elbow, wrist, orientation(prefix + "forearm"));
+    body.hand[side] = limbFrame(wrist, tip, orientation(prefix + "hand"));
+    body.thigh[side] = limbFrame(hip, knee, orientation(prefix + "thigh"));
+    body.shank[side] = limbFrame(knee, ankle, orientation(prefix + "shank"));
+    // The foot frame is pitched so that its toe point (toeIn) lands on the measured toe: in the
+    // frame the toe is `forward` ahead and kFootCentreBelowAnkle * ankle_height below the ankle.
+    const Eigen::Vector3d to_toe = toe - ankle;
+    const double below = kFootCentreBelowAnkle * b.ankle_height;
+    const double forward = std::sqrt(std::max(to_toe.squaredNorm() - below * below, 1e-6));
+    const Eigen::Vector3d along = to_toe.normalized();
+    const Eigen::Vector3d lateral = orientation(prefix + "foot").col(1);
+    const Eigen::Vector3d y = (lateral - lateral.dot(along) * along).normalized();
+    const Eigen::Vector3d up = along.cross(y);
+    const double pitch = std::atan2(below, forward);
+    Frame& foot = body.foot[side];
+    foot.origin = ankle;
+    foot.rotation.col(0) = std::cos(pitch) * along + std::sin(pitch) * up;
+    foot.rotation.col(1) = y;
+    foot.rotation.col(2) = foot.rotation.col(0).cross(y);
+    // The body's lengths are the means of the sides (the sides' own drive the frames).
+    const double half = 0.5;
+    if (side == 0) {
+      b.upper_arm_length = b.forearm_length = b.hand_length = 0;
+      b.thigh_length = b.shank_length = b.foot_length = 0;
+    }
+    PosedBody::Lengths& lengths = body.side_lengths[side];
+    lengths.upper_arm = (elbow - shoulder).norm();
+    lengths.forearm = (wrist - elbow).norm();
+    lengths.hand = (tip - wrist).norm();
+    lengths.thigh = (knee - hip).norm();
+    lengths.shank = (ankle - knee).norm();
+    lengths.foot = forward / (1 - kHeelBehindAnkle);
+    b.upper_arm_length += half * lengths.upper_arm;
+    b.forearm_length += half * lengths.forearm;
+    b.hand_length += half * lengths.hand;
+    b.thigh_length += half * lengths.thigh;
+    b.shank_length += half * lengths.shank;
+    b.foot_length += half * lengths.foot;
+  }
+  spec.segment_frames = body;
 }
 
 void addHumanBody(const HumanBodySpec& spec, Scene& scene) {
@@ -288,29 +393,40 @@ void addHumanBody(const HumanBodySpec& spec, Scene& scene) {
   const double calf_radius = radiusOfGirth(b.calf_girth);
   for (int side = 0; side < 2; ++side) {
     const std::string prefix = std::string(kSideNames[side]) + "_";
+    auto length = [&](double PosedBody::Lengths::*measured, double Anthropometry::*common) {
+      return sideLength(body, side, measured, b, common);
+    };
+    using L = PosedBody::Lengths;
+    using A = Anthropometry;
+    const double upper_arm_length = length(&L::upper_arm, &A::upper_arm_length);
+    const double forearm_length = length(&L::forearm, &A::forearm_length);
+    const double hand_length = length(&L::hand, &A::hand_length);
+    const double thigh_length = length(&L::thigh, &A::thigh_length);
+    const double shank_length = length(&L::shank, &A::shank_length);
+    const double foot_length = length(&L::foot, &A::foot_length);
     addJoint(prefix + "shoulder", body.upper_arm[side], 0.95 * upper_arm_radius);
-    addLimb(prefix + "upper_arm", body.upper_arm[side], b.upper_arm_length,
+    addLimb(prefix + "upper_arm", body.upper_arm[side], upper_arm_length,
             {upper_arm_radius, upper_arm_radius}, materials.skin);
     addJoint(prefix + "elbow", body.forearm[side], 0.75 * forearm_radius);
-    addLimb(prefix + "forearm", body.forearm[side], b.forearm_length,
+    addLimb(prefix + "forearm", body.forearm[side], forearm_length,
             {forearm_radius, forearm_radius}, materials.skin);
     addJoint(prefix + "wrist", body.hand[side], 0.55 * forearm_radius);
     // A flat hand, palm toward the thigh: breadth along x, thickness along y.
-    add(prefix + "hand", body.hand[side], {0, 0, -b.hand_length / 2},
-        {0.23 * b.hand_length, 0.08 * b.hand_length, 0.52 * b.hand_length}, materials.skin);
+    add(prefix + "hand", body.hand[side], {0, 0, -hand_length / 2},
+        {0.23 * hand_length, 0.08 * hand_length, 0.52 * hand_length}, materials.skin);
 
     addJoint(prefix + "hip", body.thigh[side], 0.8 * thigh_radius);
-    addLimb(prefix + "thigh", body.thigh[side], b.thigh_length, {thigh_radius, thigh_radius},
+    addLimb(prefix + "thigh", body.thigh[side], thigh_length, {thigh_radius, thigh_radius},
             materials.skin);
     addJoint(prefix + "knee", body.shank[side], 0.85 * calf_radius);
-    addLimb(prefix + "shank", body.shank[side], b.shank_length, {calf_radius, calf_radius},
+    addLimb(prefix + "shank", body.shank[side], shank_length, {calf_radius, calf_radius},
             materials.skin);
     addJoint(prefix + "ankle", body.foot[side], 0.55 * calf_radius);
     // The foot runs from the heel to the toe joint, its sole on the floor when standing.
     const double foot_half_height = (1 - kFootCentreBelowAnkle) * b.ankle_height;
     add(prefix + "foot", body.foot[side],
-        {(0.5 - kHeelBehindAnkle) * b.foot_length, 0, -kFootCentreBelowAnkle * b.ankle_height},
-        {0.5 * b.foot_length, 0.18 * b.foot_length, foot_half_height}, materials.skin);
+        {(0.5 - kHeelBehindAnkle) * foot_length, 0, -kFootCentreBelowAnkle * b.ankle_height},
+        {0.5 * foot_length, 0.18 * foot_length, foot_half_height}, materials.skin);
   }
   scene.addJoints(skeletonOf(body, b));
 }

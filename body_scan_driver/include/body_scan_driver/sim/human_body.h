@@ -5,6 +5,8 @@
 
 #include <body_scan_driver/sim/scene.h>
 
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -64,13 +66,63 @@ struct BodyMaterials {
   Material clothing{0.15, {0.10, 0.10, 0.12}};
 };
 
+// A rigid frame posed in the world: world point = origin + rotation * local point.
+struct SegmentFrame {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+
+  Eigen::Vector3d at(double x, double y, double z) const {
+    return origin + rotation * Eigen::Vector3d(x, y, z);
+  }
+  // A frame attached at a local point, turned by local_rotation relative to this one.
+  SegmentFrame child(const Eigen::Vector3d& local_origin,
+                     const Eigen::Matrix3d& local_rotation = Eigen::Matrix3d::Identity()) const {
+    return {rotation * local_rotation, origin + rotation * local_origin};
+  }
+};
+
+// The posed segment frames the ellipsoids and the skeleton are read off. Trunk frames have z up;
+// limb frames sit on the proximal joint with the bone along local -z and local x toward the
+// segment's front. Index 0 = left, 1 = right.
+struct BodySegmentFrames {
+  SegmentFrame pelvis;  // midpoint of the hip joints
+  SegmentFrame torso;   // same origin, z toward the middle of the shoulder line
+  SegmentFrame neck;    // middle of the shoulder line, z toward the vertex
+  SegmentFrame upper_arm[2], forearm[2], hand[2], thigh[2], shank[2], foot[2];
+  // Per-side limb lengths of a measured skeleton (m); 0 = the Anthropometry's (both sides).
+  struct Lengths {
+    double upper_arm = 0, forearm = 0, hand = 0, thigh = 0, shank = 0, foot = 0;
+  };
+  Lengths side_lengths[2];
+};
+
 struct HumanBodySpec {
   std::string name = "person";
   Anthropometry body = Anthropometry::fromStature(1.75);
   BodyPose pose;
   BodyMaterials materials;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world, floor point under the pelvis
+  // When set (e.g. by poseBodyOnSkeleton from motion capture), the body is posed by these frames
+  // instead of `pose` and `position` (pose.heading still names the front for evaluation).
+  std::optional<BodySegmentFrames> segment_frames;
 };
+
+// A skeleton measured elsewhere (motion capture), in the world frame (m, z up). `joints` needs
+// left_/right_ hip, knee, ankle, toe (the tip of the foot), shoulder, elbow, wrist, hand_tip, and
+// head_top. `orientations` gives each segment's orientation (columns: front, left, up of the
+// segment in the standing reference pose) for pelvis, torso, neck and left_/right_ upper_arm,
+// forearm, hand, thigh, shank, foot; only the directions across each bone are used, the bone
+// itself runs between the joints.
+struct SkeletonPose {
+  std::map<std::string, Eigen::Vector3d> joints;
+  std::map<std::string, Eigen::Matrix3d> orientations;
+};
+
+// Poses the ellipsoid body on a measured skeleton: sets spec.segment_frames and every length of
+// spec.body from the joints (the girths and the ankle height stay as given), and the skeleton
+// that addHumanBody records then has those joints. Throws std::invalid_argument naming a missing
+// joint or orientation.
+void poseBodyOnSkeleton(const SkeletonPose& skeleton, HumanBodySpec& spec);
 
 // The true skeleton (world frame) of a posed body: joints named head_top, neck, left_shoulder,
 // left_elbow, left_wrist, left_hand_tip, left_hip, left_knee, left_ankle, left_toe (and right_),

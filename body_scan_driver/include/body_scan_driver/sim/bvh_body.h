@@ -1,0 +1,79 @@
+// The simulator's human body driven by motion capture: a BVH motion (sim/bvh.h) bound to the body
+// through a joint map (config/bvh/<scheme>_joint_map.yaml), the body of any frame placed in the
+// scanner, and the four representative walking poses of thesis 5.3 found in the motion.
+#pragma once
+
+#include <body_scan_driver/sim/bvh.h>
+#include <body_scan_driver/sim/human_body.h>
+
+#include <array>
+#include <map>
+#include <string>
+
+namespace YAML {
+class Node;
+}
+
+namespace body_scan::sim {
+
+// How one naming scheme's BVH skeleton maps onto the simulator's body.
+struct BvhJointMap {
+  std::string scheme;
+  double unit_scale = 0;  // metres per BVH unit
+  // BVH axes -> simulator axes (x = the subject's front in the rest pose, y = left, z = up).
+  Eigen::Matrix3d to_world = Eigen::Matrix3d::Identity();
+  std::map<std::string, std::string> joints;     // simulator joint -> BVH joint (its origin)
+  std::map<std::string, std::string> end_sites;  // simulator point -> BVH joint (its End Site)
+};
+
+// Throws std::runtime_error naming the file, the bad key and the accepted values.
+BvhJointMap loadBvhJointMap(const std::string& path);
+BvhJointMap bvhJointMapFromYaml(const YAML::Node& node, const std::string& where);
+
+// A subject walking in a BVH file. The skeleton's lengths come from the file (BVH offsets times
+// the unit scale); girths and the ankle height from `girths` (by default Anthropometry::
+// fromStature of the stature the leg length implies).
+class BvhSubject {
+ public:
+  // Throws std::invalid_argument naming a joint of the map that the motion does not have.
+  BvhSubject(BvhMotion motion, BvhJointMap map, std::string name);
+
+  const std::string& name() const { return name_; }
+  const BvhMotion& motion() const { return motion_; }
+  int frameCount() const { return static_cast<int>(motion_.frames.size()); }
+
+  // Mapped joints and end sites of a frame (0-based): simulator axes, metres, the file's origin.
+  std::map<std::string, Eigen::Vector3d> joints(int frame) const;
+  // The skeleton of a frame for poseBodyOnSkeleton (same axes and origin as joints()).
+  SkeletonPose skeleton(int frame) const;
+  // Stature implied by the legs: (thigh + shank) / 0.491, the ratio of fromStature.
+  double estimatedStature() const;
+
+  // The body of `frame` placed in the scanner: the pelvis (midpoint of the hip joints) of this
+  // frame above the world origin and facing +x (hip line along y), the lower ankle
+  // ankle_height above the floor (z = 0). pose.heading is 0 (the front is +x).
+  HumanBodySpec body(int frame) const;
+  HumanBodySpec body(int frame, const Anthropometry& girths) const;
+
+ private:
+  BvhMotion motion_;
+  BvhJointMap map_;
+  std::string name_;
+  std::map<std::string, int> joint_index_, end_site_index_;
+};
+
+// The four representative poses of thesis 5.3 (index 0..3 = poses 1..4) as 0-based frames:
+// 1 right heel strike (right leg in front, longest stride), 2 right mid-stance (right leg
+// vertical, left leg behind), 3 and 4 the same for the left leg. A heel strike is the first
+// frame at which a foot that was swinging is planted again: its ankle within 3 cm of its lowest
+// (stance) height and its horizontal speed below half the walking speed. Mid-stance is the first
+// frame after it at which the hip passes over the planted ankle (along the walking direction).
+struct GaitPoseFrames {
+  std::array<int, 4> frame{};
+  double walking_speed = 0;  // m/s, of the pelvis over the clip
+};
+
+// Throws std::runtime_error if the clip holds no complete set (too short, or not a walk).
+GaitPoseFrames pickGaitPoses(const BvhSubject& subject);
+
+}  // namespace body_scan::sim
