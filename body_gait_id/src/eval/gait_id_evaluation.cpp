@@ -4,6 +4,7 @@
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/eval/body_cloud_sampler.h>
 #include <body_gait_model/eval/full_scanner_body.h>
+#include <body_gait_model/eval/skeleton_model.h>
 #include <body_scan_driver/atomic_file.h>
 
 #include <algorithm>
@@ -23,6 +24,7 @@ using Clock = std::chrono::steady_clock;
 
 std::string scannerSettings(const ScanOptions& options) {
   if (options.scanner == ScannerKind::kFull) return "full scanner (thesis rig)";
+  if (options.scanner == ScannerKind::kTruth) return "true skeleton";
   char text[96];
   std::snprintf(text, sizeof(text), "sampler columns=%d noise=%.6g", options.sampler_columns,
                 options.sampler_noise);
@@ -30,6 +32,8 @@ std::string scannerSettings(const ScanOptions& options) {
 }
 
 CachedFit scanAndFit(const body_scan::sim::HumanBodySpec& spec, const ScanOptions& options) {
+  if (options.scanner == ScannerKind::kTruth)
+    return {body_gait::eval::modelFromSkeleton(spec), false, 0};
   body_gait::eval::SampledBody body;
   if (options.scanner == ScannerKind::kFull) {
     body = body_gait::eval::scanBodyWithFullScanner(spec);

@@ -3,12 +3,14 @@
 // reconstructed and identified; prints a table beside the thesis's figures and writes a YAML
 // report and a CMC / ROC plot.
 //
-//   evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N] [--scanner sampler|full]
+//   evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N] [--scanner sampler|full|truth]
 //                    [--columns C] [--noise SIGMA_M] [--threads T] [--cache DIR] [--seed S]
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
 //                    [--probe-frames interpolated|all] [--report FILE.yaml] [--plot FILE.png]
 //                    [--quiet 1]
 //
+// --scanner truth skips scan and fit (models read off the simulator's skeleton): the upper
+// bound of the features on these people, to tell the fitter's share of the errors.
 // Thesis protocol: the probes are eta3's 16 interpolated frames per person as in the thesis
 // (96 poses of 6 subjects); --probe-frames all adds the 4 representative frames, which are in
 // the training sets too. Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
@@ -27,7 +29,7 @@ using namespace body_gait_id::eval;
   std::fprintf(stderr,
                "evaluate_gait_id: %s\n"
                "usage: evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N (>= 2; "
-               "default 6, cross-walk 50)] [--scanner sampler|full] [--columns C (>= 20)] "
+               "default 6, cross-walk 50)] [--scanner sampler|full|truth] [--columns C (>= 20)] "
                "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
                "[--transform none|pca|lda] [--components K] [--rows all|3d] "
                "[--probe-frames interpolated|all] [--report FILE.yaml] [--plot FILE.png] "
@@ -69,8 +71,10 @@ int main(int argc, char** argv) {
         scan.scanner = ScannerKind::kFull;
       else if (kind == "sampler")
         scan.scanner = ScannerKind::kSampler;
+      else if (kind == "truth")
+        scan.scanner = ScannerKind::kTruth;
       else
-        usage("--scanner must be sampler or full, got '" + kind + "'");
+        usage("--scanner must be sampler, full or truth, got '" + kind + "'");
     } else if (flag == "--columns") {
       scan.sampler_columns = static_cast<int>(number(value, flag));
     } else if (flag == "--noise") {
@@ -149,7 +153,9 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  const char* scanner_name = scan.scanner == ScannerKind::kFull ? "full" : "sampler";
+  const char* scanner_name = scan.scanner == ScannerKind::kFull      ? "full"
+                             : scan.scanner == ScannerKind::kSampler ? "sampler"
+                                                                     : "truth (no scan, no fit)";
   std::printf(
       "%s protocol, %d people, %s scanner: %d scans (%d cached, %d failed, %d low quality) "
       "in %.1f s\n",

@@ -28,6 +28,9 @@ struct PersonSource {
 enum class ScannerKind {
   kFull,     // the 12-pair scanner simulation (body_gait::eval::scanBodyWithFullScanner, ~4 s)
   kSampler,  // rays cast into the scene from the same viewpoints (body_gait::eval::sampleBody)
+  // No scan and no fit: the model read off the simulator's skeleton (modelFromSkeleton). The
+  // upper bound of the features on these people: what a perfect fitter would give.
+  kTruth,
 };
 
 struct ScanOptions {
