@@ -1,8 +1,12 @@
 // GaitSequence message without a master: a round trip gives the same cycle (every frame poses
 // the same joints), and malformed sequences are clear errors.
+#include <body_gait_model/ros/body_model_msg.h>
 #include <body_gait_model/ros/gait_sequence_msg.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <set>
 #include <string>
 
 namespace body_gait {
@@ -66,6 +70,39 @@ TEST(GaitSequenceMsg, MalformedSequencesAreNamedErrors) {
   body_scan_msgs::GaitSequence bad_q = good;
   bad_q.frames[3].q.resize(21);
   expectError(bad_q, "frame 4: BodyModel.q has 21 elements");
+}
+
+TEST(GaitSequenceMsg, FilmstripShowsEveryFrameSpacedAlongTheWalk) {
+  const GaitCycle cycle = walkCycle();
+  std_msgs::Header header;
+  header.frame_id = "world";
+  const double spacing = 0.5;
+  const auto strip = gaitSequenceMarkers(cycle, header, spacing, Eigen::Vector3d(0, -1, 0));
+  const size_t per_frame = modelMarkers(cycle.frames[0], false, header).markers.size();
+  ASSERT_EQ(strip.markers.size(), 20 * per_frame);
+  std::set<std::pair<std::string, int>> keys;
+  int blue = 0;
+  for (const auto& marker : strip.markers) {
+    keys.insert({marker.ns, marker.id});
+    blue += marker.color.b > 0.5f && marker.ns.find("segments") != std::string::npos;
+  }
+  EXPECT_EQ(keys.size(), strip.markers.size()) << "every marker needs its own (ns, id)";
+  EXPECT_EQ(blue, 4 * 12) << "the 12 segments of frames 1, 6, 11 and 16";
+  // Frame 11's waist (the joints marker's 4th point) lies 10 spacings along the walk from frame
+  // 1's, where the cycle's own frames are 10 v apart.
+  auto waist = [&](int frame) {
+    for (const auto& marker : strip.markers) {
+      char ns[32];
+      std::snprintf(ns, sizeof(ns), "frame_%02d/joints", frame);
+      if (marker.ns == ns)
+        return Eigen::Vector3d(marker.points[3].x, marker.points[3].y, marker.points[3].z);
+    }
+    return Eigen::Vector3d(Eigen::Vector3d::Constant(NAN));
+  };
+  const Eigen::Vector3d expected = cycle.frames[10].p.head<3>() - cycle.frames[0].p.head<3>() +
+                                   10 * (spacing * cycle.velocity.normalized() - cycle.velocity);
+  EXPECT_LT((waist(11) - waist(1) - expected).norm(), 1e-9);
+  EXPECT_NEAR((waist(11) - waist(1)).dot(cycle.velocity.normalized()), 10 * spacing, 0.05);
 }
 
 }  // namespace

@@ -17,6 +17,10 @@ TEST(PlayGaitCycle, PublishesTheSequenceAndPlaysItsFrames) {
   std::optional<body_scan_msgs::GaitSequence> sequence;
   std::vector<body_scan_msgs::BodyModel> models;
   int marker_arrays = 0;
+  std::optional<visualization_msgs::MarkerArray> filmstrip;
+  ros::Subscriber filmstrip_sub = nh.subscribe<visualization_msgs::MarkerArray>(
+      "/body_gait/gait_sequence_markers", 1,
+      [&](const visualization_msgs::MarkerArray::ConstPtr& msg) { filmstrip = *msg; });
   ros::Subscriber sequence_sub = nh.subscribe<body_scan_msgs::GaitSequence>(
       "/body_gait/gait_sequence", 1,
       [&](const body_scan_msgs::GaitSequence::ConstPtr& msg) { sequence = *msg; });
@@ -27,13 +31,17 @@ TEST(PlayGaitCycle, PublishesTheSequenceAndPlaysItsFrames) {
       "/body_gait/markers", 100,
       [&](const visualization_msgs::MarkerArray::ConstPtr&) { ++marker_arrays; });
   const ros::Time deadline = ros::Time::now() + ros::Duration(30);
-  while (ros::ok() && ros::Time::now() < deadline && (!sequence || models.size() < 50)) {
+  while (ros::ok() && ros::Time::now() < deadline &&
+         (!sequence || !filmstrip || models.size() < 50)) {
     ros::spinOnce();
     ros::Duration(0.01).sleep();
   }
   ASSERT_TRUE(sequence) << "no latched GaitSequence on /body_gait/gait_sequence";
   ASSERT_GE(models.size(), 50u) << "the node did not play frames on /body_gait/model";
   EXPECT_GT(marker_arrays, 0);
+  ASSERT_TRUE(filmstrip) << "no latched filmstrip on /body_gait/gait_sequence_markers";
+  EXPECT_EQ(filmstrip->markers.size() % 20, 0u);
+  EXPECT_GT(filmstrip->markers.size(), 20u);
   EXPECT_EQ(sequence->subject, "person_003");
   const GaitCycle cycle = fromMsg(*sequence);
   // A forward walk along the heading (0.5 rad) with a plausible adult stride.

@@ -1,6 +1,8 @@
 #include <body_gait_model/ros/body_model_msg.h>
 #include <body_gait_model/ros/gait_sequence_msg.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 
 namespace body_gait {
@@ -40,6 +42,32 @@ GaitCycle fromMsg(const body_scan_msgs::GaitSequence& msg) {
   cycle.velocity = Eigen::Vector3d(msg.velocity.x, msg.velocity.y, msg.velocity.z);
   cycle.stride_length = msg.stride_length;
   return cycle;
+}
+
+visualization_msgs::MarkerArray gaitSequenceMarkers(const GaitCycle& cycle,
+                                                    const std_msgs::Header& header, double spacing,
+                                                    const Eigen::Vector3d& offset) {
+  visualization_msgs::MarkerArray markers;
+  const double speed = cycle.velocity.norm();
+  const Eigen::Vector3d direction =
+      speed > 0 ? Eigen::Vector3d(cycle.velocity / speed) : Eigen::Vector3d::UnitX();
+  for (int f = 0; f < static_cast<int>(cycle.frames.size()); ++f) {
+    BodyModel model = cycle.frames[f];
+    model.p.head<3>() += offset + f * (spacing * direction - cycle.velocity);
+    const bool representative =
+        std::count(kRepresentativeFrames.begin(), kRepresentativeFrames.end(), f + 1) > 0;
+    char prefix[32];
+    std::snprintf(prefix, sizeof(prefix), "frame_%02d/", f + 1);
+    for (visualization_msgs::Marker& marker : modelMarkers(model, false, header).markers) {
+      marker.ns = prefix + marker.ns;
+      if (representative) {
+        marker.color.g = 0.4f;
+        marker.color.b = 0.9f;
+      }
+      markers.markers.push_back(marker);
+    }
+  }
+  return markers;
 }
 
 }  // namespace body_gait

@@ -6,8 +6,10 @@
 // simulatedPeople), ~seed, ~trial, ~heading (rad) for the simulated walk; ~gait_set (eta1,
 // eta2, eta3 = the poses as given; 5.8.3); ~frame_rate (Hz); ~cycles (cycles walked on before
 // playing from the start again); ~save_poses_file (write the 4 poses used, e.g. to edit them);
-// ~world_frame, ~link_prefix (as the body fitter).
-// Out: body_gait/gait_sequence (GaitSequence, latched, once), body_gait/model (BodyModel) and
+// ~world_frame, ~link_prefix (as the body fitter); ~filmstrip_spacing (m between the frames of
+// the filmstrip; 0 = none), ~filmstrip_left (m to the walker's left).
+// Out: body_gait/gait_sequence (GaitSequence, latched, once), body_gait/gait_sequence_markers
+// (all 20 frames in a row, like thesis Fig 5.6; latched), body_gait/model (BodyModel) and
 // body_gait/markers per frame, body_gait/joint_states, TF world -> <link_prefix>*, and the URDF
 // on robot_description (the RobotModel display of body_model.rviz).
 #include <body_gait_model/eval/gait_subjects.h>
@@ -65,6 +67,8 @@ int main(int argc, char** argv) {
   const std::string link_prefix = pnh.param<std::string>("link_prefix", "body_gait/");
   const double frame_rate = pnh.param("frame_rate", 10.0);
   const int cycles = pnh.param("cycles", 3);
+  const double filmstrip_spacing = pnh.param("filmstrip_spacing", 0.45);
+  const double filmstrip_left = pnh.param("filmstrip_left", 1.2);
   if (!(frame_rate > 0) || cycles < 1) {
     ROS_ERROR("~frame_rate must be > 0 Hz and ~cycles >= 1 (got %g, %d)", frame_rate, cycles);
     return 1;
@@ -94,6 +98,8 @@ int main(int argc, char** argv) {
 
   ros::Publisher sequence_pub =
       nh.advertise<body_scan_msgs::GaitSequence>("body_gait/gait_sequence", 1, true);
+  ros::Publisher filmstrip_pub =
+      nh.advertise<visualization_msgs::MarkerArray>("body_gait/gait_sequence_markers", 1, true);
   ros::Publisher model_pub = nh.advertise<body_scan_msgs::BodyModel>("body_gait/model", 2, true);
   ros::Publisher marker_pub =
       nh.advertise<visualization_msgs::MarkerArray>("body_gait/markers", 2, true);
@@ -103,6 +109,12 @@ int main(int argc, char** argv) {
   header.frame_id = world_frame;
   header.stamp = ros::Time::now();
   sequence_pub.publish(body_gait::toMsg(cycle, header, subject));
+  if (filmstrip_spacing > 0) {
+    // To the walker's left: up x direction.
+    const Eigen::Vector3d left = Eigen::Vector3d::UnitZ().cross(cycle.velocity.normalized());
+    filmstrip_pub.publish(
+        body_gait::gaitSequenceMarkers(cycle, header, filmstrip_spacing, filmstrip_left * left));
+  }
   // r and the shape are the same in every frame (eq 5.13): one URDF for the whole cycle.
   nh.setParam("robot_description", body_gait::modelUrdf(cycle.frames[0], "body_gait", link_prefix));
   ROS_INFO("gait cycle of %s: stride %.2f m, %.3f m per frame, %d frames at %.1f Hz",
