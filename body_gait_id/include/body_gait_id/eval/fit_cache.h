@@ -1,0 +1,43 @@
+// Fitted body models cached on disk, so that re-running an evaluation (another feature set,
+// protocol or plot) skips the scans and fits that did not change. Evaluation only.
+#pragma once
+
+#include <body_gait_model/kinematic_model.h>
+#include <body_scan_driver/sim/human_body.h>
+
+#include <optional>
+#include <string>
+
+namespace body_gait_id::eval {
+
+// One scan's fit: the model and what the evaluation reports about it.
+struct CachedFit {
+  body_gait::BodyModel model;
+  bool low_quality = false;  // the fitter flagged it (body_gait::FitQuality)
+  int points = 0;            // points of the scanned cloud
+};
+
+// Text form of a fit (every number at full precision; one version line first).
+std::string serializeFit(const CachedFit& fit);
+// nullopt when the text is not a fit of this version (old, truncated or foreign file).
+std::optional<CachedFit> parseFit(const std::string& text);
+
+// Key of everything a scan depends on: the spec's numbers (body, pose, materials, position; as
+// raw bytes, so a field added to them changes the key) and the scanner's settings (a string the
+// caller makes, e.g. "sampler columns=320 noise=0.002"). 16 hex digits.
+std::string scanKey(const body_scan::sim::HumanBodySpec& spec, const std::string& scanner);
+
+class FitCache {
+ public:
+  // An empty folder disables the cache (load finds nothing, store does nothing).
+  explicit FitCache(std::string folder = {});
+  std::optional<CachedFit> load(const std::string& key) const;
+  // Written atomically; throws body_scan::FileWriteError naming the file and the fix.
+  void store(const std::string& key, const CachedFit& fit) const;
+  std::string pathOf(const std::string& key) const;
+
+ private:
+  std::string folder_;
+};
+
+}  // namespace body_gait_id::eval

@@ -1,0 +1,130 @@
+// Gait features (thesis 5.7) and the orthographic virtual views of 5.8.4.
+#include <body_gait_id/gait_features.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace body_gait_id {
+namespace {
+
+using body_gait::BodyModel;
+using body_gait::kSegmentCount;
+using body_gait::PosedModel;
+
+constexpr int kMovableSegments = kSegmentCount - 1;  // the neck has no joint (5.4)
+
+// The 2D joint angle of a segment in a view: the signed angle, about the view's normal, from
+// the segment's rest direction (its parent's +-Y axis, where a zero joint would point it) to
+// its axis, both projected onto the view plane. For a planar pose (all joints turning about the
+// normal) this is exactly the 3D joint angle about that axis.
+double projectedJointAngle(const Eigen::Vector3d& rest, const Eigen::Vector3d& axis, int normal) {
+  Eigen::Vector3d a = rest, b = axis;
+  a[normal] = 0;
+  b[normal] = 0;
+  return std::atan2(a.cross(b)[normal], a.dot(b));
+}
+
+GaitFeatures viewFeatures(const BodyModel& model, int normal) {
+  const PosedModel posed = body_gait::forwardKinematics(model);
+  // Body frame (model axes X_m, Y_m, Z_m): the view does not depend on where the subject stands
+  // or which way they face.
+  const Eigen::Matrix3d world_to_body = posed.whole_body.linear().transpose();
+  GaitFeatures f;
+  f.dynamic.resize(kMovableSegments);
+  f.statics.resize(kSegmentCount);
+  int angle = 0;
+  for (int segment = 0; segment < kSegmentCount; ++segment) {
+    const body_gait::SegmentInfo& info = body_gait::segmentInfo(segment);
+    const body_gait::PosedSegment& s = posed.segments[segment];
+    Eigen::Vector3d axis = world_to_body * (s.distal - s.proximal);
+    axis[normal] = 0;
+    f.statics[segment] = axis.norm();
+    if (info.fixed) continue;
+    const Eigen::Matrix3d parent = info.parent == body_gait::kWholeBody
+                                       ? posed.whole_body.linear()
+                                       : posed.segments[info.parent].frame.linear();
+    const Eigen::Vector3d rest = world_to_body * parent.col(1) * (info.points_up ? 1.0 : -1.0);
+    f.dynamic[angle++] = projectedJointAngle(rest, axis, normal);
+  }
+  return f;
+}
+
+void checkSizes(const char* what, const Eigen::VectorXd& value, const Eigen::VectorXd& expected) {
+  if (value.size() != expected.size())
+    throw std::invalid_argument(
+        std::string("gait features: ") + what + " has " + std::to_string(value.size()) +
+        " components but the normalization " + std::to_string(expected.size()) +
+        "; probe and gallery must use the same view (3D, frontal or side)");
+}
+
+}  // namespace
+
+int dynamicSize(View view) { return view == View::k3D ? 2 * kMovableSegments : kMovableSegments; }
+
+GaitFeatures gaitFeatures(const BodyModel& model, View view) {
+  switch (view) {
+    case View::kFrontal:
+      return viewFeatures(model, 2);  // X_m-Y_m plane, angles about Z_m
+    case View::kSide:
+      return viewFeatures(model, 0);  // Y_m-Z_m plane, angles about X_m
+    case View::k3D:
+      break;
+  }
+  return {model.q, model.r};  // eqs 5.2, 5.3
+}
+
+FeatureNormalization FeatureNormalization::fit(const std::vector<GaitFeatures>& gallery) {
+  if (gallery.empty())
+    throw std::invalid_argument(
+        "feature normalization: the gallery is empty; enrol at least one subject first");
+  const Eigen::Index nd = gallery.front().dynamic.size(), ns = gallery.front().statics.size();
+  Eigen::VectorXd sum_d = Eigen::VectorXd::Zero(nd), sum_s = Eigen::VectorXd::Zero(ns);
+  for (const GaitFeatures& f : gallery) {
+    if (f.dynamic.size() != nd || f.statics.size() != ns)
+      throw std::invalid_argument(
+          "feature normalization: gallery features of different sizes (mixed views?)");
+    sum_d += f.dynamic;
+    sum_s += f.statics;
+  }
+  const double count = static_cast<double>(gallery.size());
+  FeatureNormalization n;
+  n.mean_dynamic = sum_d / count;  // mu_q, mu_r of eqs 5.14-5.15
+  n.mean_static = sum_s / count;
+  Eigen::VectorXd var_d = Eigen::VectorXd::Zero(nd), var_s = Eigen::VectorXd::Zero(ns);
+  for (const GaitFeatures& f : gallery) {
+    var_d += (f.dynamic - n.mean_dynamic).cwiseAbs2();  // diagonal of the covariance (E, d)
+    var_s += (f.statics - n.mean_static).cwiseAbs2();
+  }
+  const auto sigma = [count](const Eigen::VectorXd& var) {
+    Eigen::VectorXd s = (var / count).cwiseSqrt();
+    for (Eigen::Index i = 0; i < s.size(); ++i)
+      if (!(s[i] > 1e-12)) s[i] = 1.0;
+    return s;
+  };
+  n.sigma_dynamic = sigma(var_d);
+  n.sigma_static = sigma(var_s);
+  return n;
+}
+
+int FeatureNormalization::size(FeatureSet set) const {
+  return static_cast<int>(mean_dynamic.size() +
+                          (set == FeatureSet::kDynamicStatic ? mean_static.size() : 0));
+}
+
+Eigen::VectorXd FeatureNormalization::normalized(const GaitFeatures& f, FeatureSet set) const {
+  checkSizes("the dynamic feature", f.dynamic, mean_dynamic);
+  Eigen::VectorXd phi(size(set));
+  phi.head(mean_dynamic.size()) = (f.dynamic - mean_dynamic).cwiseQuotient(sigma_dynamic);
+  if (set == FeatureSet::kDynamicStatic) {
+    checkSizes("the static feature", f.statics, mean_static);
+    phi.tail(mean_static.size()) = (f.statics - mean_static).cwiseQuotient(sigma_static);
+  }
+  return phi;
+}
+
+Eigen::VectorXf FeatureNormalization::apply(const GaitFeatures& f, FeatureSet set) const {
+  return normalized(f, set).cast<float>();
+}
+
+}  // namespace body_gait_id
