@@ -25,9 +25,10 @@
 // the body is posed on those BVH frames and scanned with the full scanner; errors are against the
 // BVH joints. PERSON defaults to the file name up to its first '_' (CMU: 07_02.bvh -> 07).
 // --bvh-map sets the joint map (default: body_scan_driver/config/bvh/cmu_joint_map.yaml);
-// --models FILE.yaml writes every fitted model (person, walk, pose, frame, p, q, r) for the
-// recognizer; --picture FILE.png draws every case's cloud from the side with the fitted joints
-// (red) and the true ones (green), side by side.
+// --models DIR writes each walk's 4 fitted models to DIR/<walk>.yaml (body_gait_id's models
+// file: poses s1..s4 with p, q, r and shape, plus person, walk and frame) for the recognizer
+// (body_gait_id's identify_walks); --picture FILE.png draws every case's cloud from the side with
+// the fitted joints (red) and the true ones (green), side by side.
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/eval/body_cloud_sampler.h>
 #include <body_gait_model/eval/full_scanner_body.h>
@@ -58,7 +59,7 @@ constexpr double kPi = 3.14159265358979323846;
                "[--missing-viewpoints i,j] [--abduction-deg D] [--direct 1] [--test-headings 1] "
                "[--per-joint 1] [--full-scanner 1] [--missing-pairs id,id] [--only SUBJECT] "
                "[--clouds DIR] [--rig RIG.yaml] [--bvh [PERSON=]WALK.bvh,...] [--bvh-map MAP.yaml] "
-               "[--models models.yaml] [--out report.yaml]\n",
+               "[--models DIR] [--out report.yaml]\n",
                problem.c_str());
   std::exit(2);
 }
@@ -157,7 +158,7 @@ cv::Mat sidePanel(const std::vector<Eigen::Vector3d>& points, const body_gait::P
 template <typename Vector>
 std::string yamlList(const Vector& values) {
   std::ostringstream text;
-  text.precision(9);
+  text.precision(17);
   text << "[";
   for (int i = 0; i < int(values.size()); ++i) text << (i ? ", " : "") << values[i];
   return text.str() + "]";
@@ -271,10 +272,9 @@ int main(int argc, char** argv) {
     }
   }
 
-  std::ostringstream yaml, models;
+  std::ostringstream yaml;
+  std::map<std::string, std::string> walk_models;  // walk -> its models file
   yaml << "cases:\n";
-  models << "# Fitted body models (evaluate_body_fit --models): p (6), q (22), r (12) of 5.4\n"
-            "models:\n";
   double joint = 0, length = 0, swing = 0, seconds = 0, points = 0;
   int cases = 0, right = 0, low_quality = 0;
   struct JointStats {
@@ -341,12 +341,28 @@ int main(int argc, char** argv) {
          << ", fit_seconds: " << fit_seconds;
     if (each.frame >= 0) yaml << ", person: '" << each.person << "', frame: " << each.frame + 1;
     yaml << "}\n";
-    if (each.frame >= 0)
-      models << "  - {person: '" << each.person << "', walk: '" << each.walk << "', pose: " << pose
-             << ", frame: " << each.frame + 1
-             << ", low_quality: " << (fit.quality.low_quality ? "true" : "false")
-             << ",\n     p: " << yamlList(fit.model.p) << ",\n     q: " << yamlList(fit.model.q)
-             << ",\n     r: " << yamlList(fit.model.r) << "}\n";
+    if (each.frame >= 0) {
+      std::string& file = walk_models[each.walk];
+      if (file.empty())
+        file = "# Fitted body models of walk " + each.walk +
+               " (evaluate_body_fit --bvh --models): the 4 poses of\n# thesis 5.3 in order s1..s4; "
+               "body_gait_id's readBodyModels reads 'poses'.\nperson: '" +
+               each.person + "'\nwalk: '" + each.walk + "'\nposes:\n";
+      const body_gait::BodyShape& shape = fit.model.shape;
+      std::ostringstream pose_line;
+      pose_line.precision(17);
+      pose_line << "  - {frame: " << each.frame + 1
+                << ", low_quality: " << (fit.quality.low_quality ? "true" : "false")
+                << ",\n     p: " << yamlList(fit.model.p) << ",\n     q: " << yamlList(fit.model.q)
+                << ",\n     r: " << yamlList(fit.model.r)
+                << ",\n     proximal_radius: " << yamlList(shape.proximal_radius)
+                << ",\n     distal_radius: " << yamlList(shape.distal_radius)
+                << ",\n     shoulder_half_width: " << shape.shoulder_half_width
+                << ", shoulder_drop: " << shape.shoulder_drop
+                << ", hip_half_width: " << shape.hip_half_width << ", hip_rise: " << shape.hip_rise
+                << "}\n";
+      file += pose_line.str();
+    }
     if (per_joint) {
       for (const auto& [name, error] : errors.joint_error)
         std::printf("    %-15s %6.1f mm (%+6.1f %+6.1f %+6.1f)\n", name.c_str(), 1000 * error,
@@ -411,7 +427,9 @@ int main(int argc, char** argv) {
   }
   if (!models_out.empty()) {
     try {
-      body_scan::writeFileAtomically(models_out, models.str());
+      std::filesystem::create_directories(models_out);
+      for (const auto& [walk, text] : walk_models)
+        body_scan::writeFileAtomically(models_out + "/" + walk + ".yaml", text);
     } catch (const std::exception& error) {
       std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
       return 1;
