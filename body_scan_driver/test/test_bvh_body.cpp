@@ -101,16 +101,33 @@ TEST(BvhSubject, BodyStandsOnTheBvhJointsInTheScanner) {
       const HumanBodySpec spec = subject.body(frame);
       const auto body = skeletonOf(spec);
       const auto bvh = subject.joints(frame);
-      // Every joint where the BVH has it (the far ends use each side's own length).
-      const char* const kJoints[] = {"head_top",    "left_shoulder", "right_shoulder", "left_elbow",
-                                     "right_elbow", "left_wrist",    "right_wrist",    "left_hip",
-                                     "right_hip",   "left_knee",     "right_knee",     "left_ankle",
-                                     "right_ankle", "left_hand_tip", "right_hand_tip", "left_toe",
-                                     "right_toe"};
+      // Every joint where the BVH has it (the far ends use each side's own length) ...
+      const char* const kJoints[] = {"left_shoulder", "right_shoulder", "left_elbow", "right_elbow",
+                                     "left_wrist",    "right_wrist",    "left_hip",   "right_hip",
+                                     "left_knee",     "right_knee",     "left_ankle", "right_ankle",
+                                     "left_toe",      "right_toe"};
       for (const char* a : kJoints)
         for (const char* b : kJoints)
           EXPECT_NEAR((body.at(a) - body.at(b)).norm(), (bvh.at(a) - bvh.at(b)).norm(), 1e-9)
               << a << " - " << b;
+      // ... but the CMU map takes the hand and head lengths from the body, along the BVH's
+      // directions (its End Sites there are marker stubs).
+      ASSERT_TRUE(map.hand_length_from_body && map.head_height_from_body);
+      for (const std::string side : {"left_", "right_"}) {
+        const Eigen::Vector3d hand = body.at(side + "hand_tip") - body.at(side + "wrist");
+        const Eigen::Vector3d bvh_hand = bvh.at(side + "hand_tip") - bvh.at(side + "wrist");
+        EXPECT_NEAR(hand.norm(), spec.body.hand_length, 1e-9);
+        EXPECT_NEAR(
+            hand.normalized().dot((body.at(side + "elbow") - body.at(side + "wrist")).normalized()),
+            bvh_hand.normalized().dot(
+                (bvh.at(side + "elbow") - bvh.at(side + "wrist")).normalized()),
+            1e-9);
+      }
+      const Eigen::Vector3d shoulders = (body.at("left_shoulder") + body.at("right_shoulder")) / 2;
+      EXPECT_NEAR((body.at("head_top") - shoulders).norm(),
+                  spec.body.neck_length + spec.body.head_height, 1e-9);
+      EXPECT_NEAR(spec.body.neck_length + spec.body.head_height, 0.182 * subject.estimatedStature(),
+                  1e-9);
       const Eigen::Vector3d hip_mid = (body.at("left_hip") + body.at("right_hip")) / 2;
       EXPECT_NEAR(hip_mid.head<2>().norm(), 0, 1e-9);
       EXPECT_NEAR(body.at("pelvis").head<2>().norm(), 0, 1e-9);
@@ -126,8 +143,8 @@ TEST(BvhSubject, BodyStandsOnTheBvhJointsInTheScanner) {
       // A standing adult: 1.5-1.9 m from the leg length; the head top 1.4-1.9 m up.
       EXPECT_GT(subject.estimatedStature(), 1.5);
       EXPECT_LT(subject.estimatedStature(), 1.9);
-      EXPECT_GT(body.at("head_top").z(), 1.4);
-      EXPECT_LT(body.at("head_top").z(), 1.9);
+      EXPECT_GT(body.at("head_top").z(), 1.45);
+      EXPECT_LT(body.at("head_top").z(), 1.95);
       // The ellipsoids dress it: a ray along the lower leg's front normal toward its middle
       // hits that shank.
       Scene scene;

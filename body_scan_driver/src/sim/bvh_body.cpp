@@ -64,8 +64,10 @@ std::map<std::string, std::string> nameMap(const YAML::Node& node, const std::st
 }  // namespace
 
 BvhJointMap bvhJointMapFromYaml(const YAML::Node& node, const std::string& where) {
-  requireKnownKeys(
-      node, {"scheme", "unit_scale_m", "up_axis", "forward_axis", "joints", "end_sites"}, where);
+  requireKnownKeys(node,
+                   {"scheme", "unit_scale_m", "up_axis", "forward_axis", "joints", "end_sites",
+                    "far_ends_from_body"},
+                   where);
   BvhJointMap map;
   try {
     map.scheme = node["scheme"] ? node["scheme"].as<std::string>() : "";
@@ -83,6 +85,19 @@ BvhJointMap bvhJointMapFromYaml(const YAML::Node& node, const std::string& where
   map.to_world.row(0) = forward.transpose();
   map.to_world.row(1) = up.cross(forward).transpose();  // the subject's left
   map.to_world.row(2) = up.transpose();
+  if (const YAML::Node far_ends = node["far_ends_from_body"]) {
+    const std::string usage = where + ": 'far_ends_from_body' must be a list of hand_tip, head_top";
+    if (!far_ends.IsSequence()) throw std::runtime_error(usage);
+    for (const auto& item : far_ends) {
+      const std::string name = item.as<std::string>();
+      if (name == "hand_tip")
+        map.hand_length_from_body = true;
+      else if (name == "head_top")
+        map.head_height_from_body = true;
+      else
+        throw std::runtime_error(usage + ", got '" + name + "'");
+    }
+  }
   map.joints = nameMap(node, "joints", where);
   map.end_sites = nameMap(node, "end_sites", where);
   for (const auto& [segment, joint] : kSegmentJoint)
@@ -125,10 +140,20 @@ std::map<std::string, Eigen::Vector3d> BvhSubject::joints(int frame) const {
   return joints;
 }
 
-SkeletonPose BvhSubject::skeleton(int frame) const {
+SkeletonPose BvhSubject::skeleton(int frame, const Anthropometry& body) const {
   const BvhPose pose = poseBvhFrame(motion_, frame);
   SkeletonPose skeleton;
   skeleton.joints = joints(frame);
+  auto& j = skeleton.joints;
+  auto extend = [&](const std::string& far_end, const Eigen::Vector3d& from, double length) {
+    j[far_end] = from + length * (j.at(far_end) - from).normalized();
+  };
+  if (map_.hand_length_from_body)
+    for (const std::string side : {"left_", "right_"})
+      extend(side + "hand_tip", j.at(side + "wrist"), body.hand_length);
+  if (map_.head_height_from_body)
+    extend("head_top", (j.at("left_shoulder") + j.at("right_shoulder")) / 2,
+           body.neck_length + body.head_height);
   // A segment's rest orientation is the identity in simulator axes: W R W^T.
   for (const auto& [segment, joint] : kSegmentJoint)
     skeleton.orientations[segment] =
@@ -150,7 +175,7 @@ HumanBodySpec BvhSubject::body(int frame) const {
 }
 
 HumanBodySpec BvhSubject::body(int frame, const Anthropometry& girths) const {
-  SkeletonPose skeleton = this->skeleton(frame);
+  SkeletonPose skeleton = this->skeleton(frame, girths);
   const auto& j = skeleton.joints;
   const Eigen::Vector3d hip_mid = (j.at("left_hip") + j.at("right_hip")) / 2;
   const Eigen::Vector3d left = j.at("left_hip") - j.at("right_hip");
