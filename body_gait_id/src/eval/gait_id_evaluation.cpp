@@ -314,18 +314,22 @@ std::vector<NamedMetrics> thesisProtocol(const FittedWalks& walks,
 
 std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
                                             const std::vector<FeatureRow>& rows,
-                                            const TransformOptions& transform) {
+                                            const TransformOptions& transform, bool per_walk) {
   std::vector<NamedMetrics> results;
   const int people = static_cast<int>(walks.size());
+  auto decided = [per_walk](const ProbeSet& set) {
+    return evaluateRecognition(per_walk ? perWalkProbes(set.probes) : set.probes);
+  };
   for (const FeatureRow& row : rows) {
     const ProbeSet closed = identifyProbes(walks, row, 0, 1, people, ProbeFrames::kAll, transform);
-    RecognitionMetrics metrics = evaluateRecognition(closed.probes);
+    RecognitionMetrics metrics = decided(closed);
     if (people >= 2) {
       const ProbeSet open =
           identifyProbes(walks, row, 0, 1, people / 2, ProbeFrames::kAll, transform);
-      metrics.open_set = evaluateRecognition(open.probes).open_set;
+      metrics.open_set = decided(open).open_set;
     }
-    results.push_back({row.name + transformSuffix(transform), metrics, std::nullopt});
+    results.push_back({row.name + transformSuffix(transform) + (per_walk ? " per walk" : ""),
+                       metrics, std::nullopt});
   }
   return results;
 }

@@ -6,11 +6,13 @@
 //   evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N] [--scanner sampler|full|truth]
 //                    [--columns C] [--noise SIGMA_M] [--threads T] [--cache DIR] [--seed S]
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
-//                    [--probe-frames interpolated|all] [--report FILE.yaml] [--plot FILE.png]
-//                    [--quiet 1]
+//                    [--probe-frames interpolated|all] [--per-walk 1]
+//                    [--report FILE.yaml] [--plot FILE.png] [--quiet 1]
 //
 // --scanner truth skips scan and fit (models read off the simulator's skeleton): the upper
 // bound of the features on these people, to tell the fitter's share of the errors.
+// --per-walk 1 (cross-walk) adds the 3D rows with one decision per probe walk (the mean of a
+// subject's scores over the walk's 20 frames) beside the per-frame decisions.
 // Thesis protocol: the probes are eta3's 16 interpolated frames per person as in the thesis
 // (96 poses of 6 subjects); --probe-frames all adds the 4 representative frames, which are in
 // the training sets too. Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
@@ -26,15 +28,16 @@ namespace {
 using namespace body_gait_id::eval;
 
 [[noreturn]] void usage(const std::string& problem) {
-  std::fprintf(stderr,
-               "evaluate_gait_id: %s\n"
-               "usage: evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N (>= 2; "
-               "default 6, cross-walk 50)] [--scanner sampler|full|truth] [--columns C (>= 20)] "
-               "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
-               "[--transform none|pca|lda] [--components K] [--rows all|3d] "
-               "[--probe-frames interpolated|all] [--report FILE.yaml] [--plot FILE.png] "
-               "[--quiet 1]\n",
-               problem.c_str());
+  std::fprintf(
+      stderr,
+      "evaluate_gait_id: %s\n"
+      "usage: evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N (>= 2; "
+      "default 6, cross-walk 50)] [--scanner sampler|full|truth] [--columns C (>= 20)] "
+      "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
+      "[--transform none|pca|lda] [--components K] [--rows all|3d] "
+      "[--probe-frames interpolated|all] [--per-walk 1] [--report FILE.yaml] [--plot FILE.png] "
+      "[--quiet 1]\n",
+      problem.c_str());
   std::exit(2);
 }
 
@@ -54,6 +57,7 @@ int main(int argc, char** argv) {
   ScanOptions scan;
   TransformOptions transform;
   ProbeFrames probe_frames = ProbeFrames::kInterpolated;
+  bool per_walk = false;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--help" || flag == "-h") usage("evaluates gait identification");
@@ -113,6 +117,8 @@ int main(int argc, char** argv) {
       report_path = value;
     } else if (flag == "--plot") {
       plot_path = value;
+    } else if (flag == "--per-walk") {
+      per_walk = number(value, flag) != 0;
     } else if (flag == "--quiet") {
       scan.progress = number(value, flag) == 0;
     } else {
@@ -141,12 +147,17 @@ int main(int argc, char** argv) {
     const FittedWalks walks = fitWalks(people, cross_walk ? 2 : 1, scan, &summary);
     results =
         cross_walk ? crossWalkProtocol(walks, rows) : thesisProtocol(walks, rows, {}, probe_frames);
-    if (transform.kind != FeatureTransform::kNone) {
-      const std::vector<FeatureRow> rows_3d(rows.begin(), rows.begin() + 2);
-      for (NamedMetrics& extra : cross_walk
-                                     ? crossWalkProtocol(walks, rows_3d, transform)
-                                     : thesisProtocol(walks, rows_3d, transform, probe_frames))
-        results.push_back(std::move(extra));
+    const std::vector<FeatureRow> rows_3d(rows.begin(), rows.begin() + 2);
+    auto add = [&results](std::vector<NamedMetrics> extra) {
+      for (NamedMetrics& r : extra) results.push_back(std::move(r));
+    };
+    if (transform.kind != FeatureTransform::kNone)
+      add(cross_walk ? crossWalkProtocol(walks, rows_3d, transform)
+                     : thesisProtocol(walks, rows_3d, transform, probe_frames));
+    if (per_walk && cross_walk) {
+      add(crossWalkProtocol(walks, rows_3d, {}, true));
+      if (transform.kind != FeatureTransform::kNone)
+        add(crossWalkProtocol(walks, rows_3d, transform, true));
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "evaluate_gait_id: %s\n", e.what());
@@ -166,7 +177,7 @@ int main(int argc, char** argv) {
   std::printf("%s", recognitionTable(results).c_str());
   for (const NamedMetrics& r : results) {
     const RecognitionMetrics& m = r.metrics;
-    std::printf("%-26s CMC", r.name.c_str());
+    std::printf("%-32s CMC", r.name.c_str());
     for (const Proportion& p : m.cmc) std::printf(" %.2f", 100 * p.rate);
     if (m.open_set)
       std::printf(" | open set: threshold %.3f, FNIR %.2f %%%s, FPIR %.2f %% [%.2f, %.2f] (n %d)",

@@ -101,10 +101,13 @@ std::vector<NamedMetrics> thesisProtocol(const FittedWalks& walks,
                                          const TransformOptions& transform = {},
                                          ProbeFrames frames = ProbeFrames::kInterpolated);
 // Cross-walk protocol: gallery from walk 0, probes all 20 frames of eta3 of walk 1 of the same
-// people (rank-1, CMC, ROC / EER); the open-set figures come from a second run that enrols only the
-// first half of the people and probes with all (the other half must be rejected).
+// people (rank-1, CMC, ROC / EER); the open-set figures come from a second run that enrols only
+// the first half of the people and probes with all (the other half must be rejected).
+// per_walk: one decision per probe walk (perWalkProbes: mean frame scores), rows named
+// "... per walk".
 std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
                                             const std::vector<FeatureRow>& rows,
-                                            const TransformOptions& transform = {});
+                                            const TransformOptions& transform = {},
+                                            bool per_walk = false);
 
 }  // namespace body_gait_id::eval
