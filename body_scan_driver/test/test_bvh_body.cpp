@@ -251,6 +251,46 @@ TEST(GaitPoses, PickedPosesMatchTheThesisDefinitions) {
   }
 }
 
+// A scene file places a BVH frame like any human: turned by heading_deg, moved to position.
+TEST(BvhHumanScene, SceneObjectPlacesTheChosenFrame) {
+  SKIP_WITHOUT_CMU_WALKS();
+  const std::string object =
+      "objects:\n  - type: bvh_human\n    name: w\n    bvh: " + bvhPath("07_02") +
+      "\n    joint_map: " + kMapPath + "\n";
+  const Scene scene =
+      parseScene(object + "    gait_pose: 3\n    position: [1, 0.5, 0]\n    heading_deg: 90\n");
+  const BvhSubject subject(loadBvh(bvhPath("07_02")), loadBvhJointMap(kMapPath), "w");
+  const int frame = pickGaitPoses(subject).frame[2];
+  const auto placed = skeletonOf(subject.body(frame));
+  ASSERT_FALSE(scene.skeleton().empty());
+  for (const SkeletonJoint& joint : scene.skeleton()) {
+    const Eigen::Vector3d& p = placed.at(joint.name);
+    // 90 deg about z: (x, y) -> (-y, x), then + (1, 0.5).
+    EXPECT_LT((joint.position - Eigen::Vector3d(1 - p.y(), 0.5 + p.x(), p.z())).norm(), 1e-9)
+        << joint.name;
+  }
+  EXPECT_EQ(scene.surfaces().front()->name.rfind("w/", 0), 0u);
+  // The shipped scene file finds the walk next to the repository (its relative path).
+  if (fs::exists(BODY_SCAN_BVH_DIR "/07_02.bvh")) {
+    EXPECT_GT(loadScene(BODY_SCAN_DRIVER_CONFIG_DIR "/scenes/bvh_walker.yaml").skeleton().size(),
+              10u);
+  }
+  auto error = [&](const std::string& keys) {
+    try {
+      parseScene(object + keys);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(error("    frame: 12\n"), "accepted");
+  EXPECT_NE(error("    frame: 12\n    gait_pose: 1\n").find("either 'frame'"), std::string::npos);
+  EXPECT_NE(error("    frame: 201\n").find("'frame' must be 1..200"), std::string::npos);
+  EXPECT_NE(error("    gait_pose: 5\n").find("'gait_pose' must be 1..4"), std::string::npos);
+  EXPECT_NE(error("    frame: 1\n    speed: 2\n").find("unknown key 'speed'"), std::string::npos);
+  EXPECT_NE(error("    frame: 1\n    stature: -1\n").find("stature"), std::string::npos);
+}
+
 TEST(GaitPoses, ShortClipIsAClearError) {
   SKIP_WITHOUT_CMU_WALKS();
   BvhMotion motion = loadBvh(bvhPath("07_02"));
