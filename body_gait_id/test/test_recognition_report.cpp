@@ -111,6 +111,22 @@ TEST(RecognitionPlot, CurvesAreDrawnWhereTheDataPutsThem) {
   EXPECT_TRUE(near(image.at<cv::Vec3b>(plotPixel(panels, 1, 0, 1)), {0, 0, 0}, 0));
 }
 
+TEST(RecognitionPlot, LogAxisPutsDecadesEvenlyApart) {
+  std::vector<PlotPanel> panels(1);
+  panels[0].x_min = 1e-3;
+  panels[0].log_x = true;
+  const int x_milli = plotPixel(panels, 0, 1e-3, 0).x, x_centi = plotPixel(panels, 0, 1e-2, 0).x;
+  const int x_deci = plotPixel(panels, 0, 0.1, 0).x, x_one = plotPixel(panels, 0, 1, 0).x;
+  EXPECT_NEAR(x_centi - x_milli, x_deci - x_centi, 1);
+  EXPECT_NEAR(x_one - x_deci, x_deci - x_centi, 1);
+  EXPECT_EQ(plotPixel(panels, 0, 0.0, 0).x, x_milli);  // FAR 0 is drawn at the axis' start
+  const cv::Mat image = plotPanels(panels);
+  // The decade ticks' grid lines (grey) are drawn at those columns, mid-height.
+  const int row = plotPixel(panels, 0, 1e-2, 0.375).y;
+  EXPECT_TRUE(near(image.at<cv::Vec3b>(row, x_centi), {215, 215, 215}, 0));
+  EXPECT_TRUE(near(image.at<cv::Vec3b>(row, x_deci), {215, 215, 215}, 0));
+}
+
 TEST(RecognitionPlot, CmcAndRocPanelsOfResults) {
   const std::vector<PlotPanel> panels = cmcAndRocPanels({toyResult(), toyResult()});
   ASSERT_EQ(panels.size(), 2u);

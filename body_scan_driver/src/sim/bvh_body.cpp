@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 #include <utility>
 
@@ -64,8 +65,10 @@ std::map<std::string, std::string> nameMap(const YAML::Node& node, const std::st
 }  // namespace
 
 BvhJointMap bvhJointMapFromYaml(const YAML::Node& node, const std::string& where) {
-  requireKnownKeys(
-      node, {"scheme", "unit_scale_m", "up_axis", "forward_axis", "joints", "end_sites"}, where);
+  requireKnownKeys(node,
+                   {"scheme", "unit_scale_m", "up_axis", "forward_axis", "joints", "end_sites",
+                    "far_ends_from_body"},
+                   where);
   BvhJointMap map;
   try {
     map.scheme = node["scheme"] ? node["scheme"].as<std::string>() : "";
@@ -83,6 +86,19 @@ BvhJointMap bvhJointMapFromYaml(const YAML::Node& node, const std::string& where
   map.to_world.row(0) = forward.transpose();
   map.to_world.row(1) = up.cross(forward).transpose();  // the subject's left
   map.to_world.row(2) = up.transpose();
+  if (const YAML::Node far_ends = node["far_ends_from_body"]) {
+    const std::string usage = where + ": 'far_ends_from_body' must be a list of hand_tip, head_top";
+    if (!far_ends.IsSequence()) throw std::runtime_error(usage);
+    for (const auto& item : far_ends) {
+      const std::string name = item.as<std::string>();
+      if (name == "hand_tip")
+        map.hand_length_from_body = true;
+      else if (name == "head_top")
+        map.head_height_from_body = true;
+      else
+        throw std::runtime_error(usage + ", got '" + name + "'");
+    }
+  }
   map.joints = nameMap(node, "joints", where);
   map.end_sites = nameMap(node, "end_sites", where);
   for (const auto& [segment, joint] : kSegmentJoint)
@@ -125,10 +141,20 @@ std::map<std::string, Eigen::Vector3d> BvhSubject::joints(int frame) const {
   return joints;
 }
 
-SkeletonPose BvhSubject::skeleton(int frame) const {
+SkeletonPose BvhSubject::skeleton(int frame, const Anthropometry& body) const {
   const BvhPose pose = poseBvhFrame(motion_, frame);
   SkeletonPose skeleton;
   skeleton.joints = joints(frame);
+  auto& j = skeleton.joints;
+  auto extend = [&](const std::string& far_end, const Eigen::Vector3d& from, double length) {
+    j[far_end] = from + length * (j.at(far_end) - from).normalized();
+  };
+  if (map_.hand_length_from_body)
+    for (const std::string side : {"left_", "right_"})
+      extend(side + "hand_tip", j.at(side + "wrist"), body.hand_length);
+  if (map_.head_height_from_body)
+    extend("head_top", (j.at("left_shoulder") + j.at("right_shoulder")) / 2,
+           body.neck_length + body.head_height);
   // A segment's rest orientation is the identity in simulator axes: W R W^T.
   for (const auto& [segment, joint] : kSegmentJoint)
     skeleton.orientations[segment] =
@@ -150,7 +176,7 @@ HumanBodySpec BvhSubject::body(int frame) const {
 }
 
 HumanBodySpec BvhSubject::body(int frame, const Anthropometry& girths) const {
-  SkeletonPose skeleton = this->skeleton(frame);
+  SkeletonPose skeleton = this->skeleton(frame, girths);
   const auto& j = skeleton.joints;
   const Eigen::Vector3d hip_mid = (j.at("left_hip") + j.at("right_hip")) / 2;
   const Eigen::Vector3d left = j.at("left_hip") - j.at("right_hip");
@@ -251,6 +277,75 @@ GaitPoseFrames pickGaitPoses(const BvhSubject& subject) {
   throw std::runtime_error(where + ": no heel strike and mid-stance of both feet in " +
                            std::to_string(frames) +
                            " frames (a walk needs about one gait cycle, ~1.1 s)");
+}
+
+void moveBody(HumanBodySpec& spec, double heading, const Eigen::Vector3d& position) {
+  if (!spec.segment_frames)
+    throw std::invalid_argument("moveBody: the body has no segment frames (use BvhSubject::body)");
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d shift(position.x(), position.y(), 0);
+  const Eigen::Vector3d old_position = spec.position;
+  auto move = [&](SegmentFrame& frame) {
+    frame.origin = turn * (frame.origin - old_position) + shift;
+    frame.rotation = turn * frame.rotation;
+  };
+  BodySegmentFrames& frames = *spec.segment_frames;
+  for (SegmentFrame* frame : {&frames.pelvis, &frames.torso, &frames.neck}) move(*frame);
+  for (int side = 0; side < 2; ++side)
+    for (SegmentFrame* frame : {&frames.upper_arm[side], &frames.forearm[side], &frames.hand[side],
+                                &frames.thigh[side], &frames.shank[side], &frames.foot[side]})
+      move(*frame);
+  spec.pose.heading += heading;
+  spec.position = shift;
+}
+
+HumanBodySpec bvhHumanFromYaml(const YAML::Node& object, const std::string& where,
+                               const std::string& base_dir) {
+  requireKnownKeys(object,
+                   {"type", "name", "bvh", "joint_map", "frame", "gait_pose", "stature", "position",
+                    "heading_deg", "materials"},
+                   where);
+  auto file = [&](const char* key) {
+    if (!object[key])
+      throw std::runtime_error(where + ": bvh_human needs '" + key + "' (a file name)");
+    const std::filesystem::path path = object[key].as<std::string>();
+    return (path.is_relative() && !base_dir.empty() ? std::filesystem::path(base_dir) / path : path)
+        .string();
+  };
+  // name, stature, position, heading and materials as for a human (one reader of those keys).
+  YAML::Node human(YAML::NodeType::Map);
+  for (const char* key : {"name", "stature", "position", "heading_deg", "materials"})
+    if (object[key]) human[key] = object[key];
+  const HumanBodySpec looks = humanBodyFromYaml(human);
+  const std::string name = object["name"] ? looks.name : "walker";
+  HumanBodySpec spec;
+  try {
+    const BvhSubject subject(loadBvh(file("bvh")), loadBvhJointMap(file("joint_map")), name);
+    if (object["frame"].IsDefined() == object["gait_pose"].IsDefined())
+      throw std::runtime_error("give either 'frame' (1-based) or 'gait_pose' (1-4)");
+    int frame = 0;
+    if (object["frame"]) {
+      frame = object["frame"].as<int>() - 1;
+      if (frame < 0 || frame >= subject.frameCount())
+        throw std::runtime_error("'frame' must be 1.." + std::to_string(subject.frameCount()));
+    } else {
+      const int pose = object["gait_pose"].as<int>();
+      if (pose < 1 || pose > 4) throw std::runtime_error("'gait_pose' must be 1..4 (thesis 5.3)");
+      frame = pickGaitPoses(subject).frame[pose - 1];
+    }
+    Anthropometry body =
+        object["stature"] ? looks.body : Anthropometry::fromStature(subject.estimatedStature());
+    spec = subject.body(frame, body);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(where + ": " + e.what());
+  } catch (const std::exception& e) {
+    throw std::runtime_error(where + ": " + e.what());
+  }
+  spec.name = name;
+  spec.materials = looks.materials;
+  moveBody(spec, looks.pose.heading, looks.position);
+  return spec;
 }
 
 }  // namespace body_scan::sim

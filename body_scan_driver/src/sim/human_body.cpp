@@ -216,6 +216,8 @@ std::vector<SkeletonJoint> humanSkeleton(const HumanBodySpec& spec) {
   return skeletonOf(forwardKinematics(spec), spec.body);
 }
 
+BodySegmentFrames bodySegmentFrames(const HumanBodySpec& spec) { return forwardKinematics(spec); }
+
 namespace {
 
 // A limb frame on `proximal` with the bone along local -z toward `distal` and local x toward the

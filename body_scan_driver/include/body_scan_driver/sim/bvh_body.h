@@ -24,6 +24,8 @@ struct BvhJointMap {
   Eigen::Matrix3d to_world = Eigen::Matrix3d::Identity();
   std::map<std::string, std::string> joints;     // simulator joint -> BVH joint (its origin)
   std::map<std::string, std::string> end_sites;  // simulator point -> BVH joint (its End Site)
+  // Far ends ("hand_tip", "head_top") whose length comes from the body, not the BVH.
+  bool hand_length_from_body = false, head_height_from_body = false;
 };
 
 // Throws std::runtime_error naming the file, the bad key and the accepted values.
@@ -32,7 +34,8 @@ BvhJointMap bvhJointMapFromYaml(const YAML::Node& node, const std::string& where
 
 // A subject walking in a BVH file. The skeleton's lengths come from the file (BVH offsets times
 // the unit scale); girths and the ankle height from `girths` (by default Anthropometry::
-// fromStature of the stature the leg length implies).
+// fromStature of the stature the leg length implies), and so do the far ends the map names in
+// far_ends_from_body.
 class BvhSubject {
  public:
   // Throws std::invalid_argument naming a joint of the map that the motion does not have.
@@ -44,8 +47,9 @@ class BvhSubject {
 
   // Mapped joints and end sites of a frame (0-based): simulator axes, metres, the file's origin.
   std::map<std::string, Eigen::Vector3d> joints(int frame) const;
-  // The skeleton of a frame for poseBodyOnSkeleton (same axes and origin as joints()).
-  SkeletonPose skeleton(int frame) const;
+  // The skeleton of a frame for poseBodyOnSkeleton (same axes and origin as joints()); far ends
+  // the map takes from the body get `body`'s lengths along the BVH's directions.
+  SkeletonPose skeleton(int frame, const Anthropometry& body) const;
   // Stature implied by the legs: (thigh + shank) / 0.491, the ratio of fromStature.
   double estimatedStature() const;
 
@@ -75,5 +79,16 @@ struct GaitPoseFrames {
 
 // Throws std::runtime_error if the clip holds no complete set (too short, or not a walk).
 GaitPoseFrames pickGaitPoses(const BvhSubject& subject);
+
+// Turns a placed body (BvhSubject::body) by `heading` about world z and moves it to `position`
+// (floor point under the pelvis): its frames, pose.heading and position.
+void moveBody(HumanBodySpec& spec, double heading, const Eigen::Vector3d& position);
+
+// A scene-file object of type bvh_human (config/scenes/bvh_walker.yaml): keys bvh and joint_map
+// (files, relative to base_dir), frame (1-based) or gait_pose (1-4, thesis 5.3, picked), and
+// human's name, stature (girths; default from the legs), position, heading_deg, materials.
+// Throws std::runtime_error naming `where` and the key.
+HumanBodySpec bvhHumanFromYaml(const YAML::Node& object, const std::string& where,
+                               const std::string& base_dir);
 
 }  // namespace body_scan::sim

@@ -129,6 +129,9 @@ void poseBodyOnSkeleton(const SkeletonPose& skeleton, HumanBodySpec& spec);
 // pelvis, chest.
 std::vector<SkeletonJoint> humanSkeleton(const HumanBodySpec& spec);
 
+// The posed segment frames of a spec (its segment_frames, or the angles' forward kinematics).
+BodySegmentFrames bodySegmentFrames(const HumanBodySpec& spec);
+
 // Adds the body's surfaces (named "<name>/<segment>") and skeleton to the scene.
 void addHumanBody(const HumanBodySpec& spec, Scene& scene);
 
