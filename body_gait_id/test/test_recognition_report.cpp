@@ -99,7 +99,11 @@ TEST(RecognitionPlot, CurvesAreDrawnWhereTheDataPutsThem) {
   writePng(path.string(), plotPanels(panels));
   const cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
   ASSERT_FALSE(image.empty()) << path;
-  EXPECT_EQ(image.cols, 2 * image.rows * 520 / 420);
+  EXPECT_EQ(image.cols, 2 * 520);
+  EXPECT_GT(image.rows, 420);  // the panels and one legend row below them
+  // Legend below the second panel: its first entry's line sample in the first curve's colour.
+  EXPECT_TRUE(near(image.at<cv::Vec3b>(420 + 12 - 4, 520 + 20 + 10), curveColour(0), 30));
+  EXPECT_TRUE(near(image.at<cv::Vec3b>(420 + 12 - 4, 520 + 20 + 260 + 10), curveColour(1), 30));
   // On the curves, away from ticks and points: the curve's colour.
   EXPECT_TRUE(near(image.at<cv::Vec3b>(plotPixel(panels, 0, 2.5, 0.6)), curveColour(0), 30));
   EXPECT_TRUE(near(image.at<cv::Vec3b>(plotPixel(panels, 1, 0.4, 0.4)), curveColour(0), 30));
