@@ -65,6 +65,9 @@ View parseView(const std::string& name);
 const char* featureSetName(FeatureSet set);
 FeatureSet parseFeatureSet(const std::string& name);
 
+// One connection to the file: use an object from one thread at a time (the node's callbacks
+// run in one spinner thread). Several processes may open the same file: readers run alongside
+// a writer (WAL), writers take turns (busy timeout).
 class GalleryDatabase {
  public:
   static constexpr int kSchemaVersion = 1;
