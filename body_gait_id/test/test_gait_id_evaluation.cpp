@@ -112,6 +112,24 @@ TEST(GaitIdEvaluation, CrossWalkProtocolOnThreePeople) {
   EXPECT_EQ(both.open_set->fpir.n, 40);
 }
 
+TEST(GaitIdEvaluation, PeopleWhoseWalkFailedAreLeftOutAndSaidSo) {
+  FittedWalks walks = smallRun().walks;
+  walks[1][0].reset();  // person 1's gallery walk could not be fitted
+  std::vector<FeatureRow> rows = thesisRows();
+  rows.resize(1);
+  const NamedMetrics result = thesisProtocol(walks, rows)[0];
+  EXPECT_EQ(result.metrics.enrolled_probes, 32);  // 2 people x 16
+  ASSERT_EQ(result.metrics.cmc.size(), 2u);       // 2 enrolled subjects
+  EXPECT_NE(result.note.find("1 people left out"), std::string::npos) << result.note;
+  // Cross-walk: person 2's probe walk missing leaves 2 people's probes; the gallery keeps 3.
+  walks = smallRun().walks;
+  walks[2][1].reset();
+  const NamedMetrics cross = crossWalkProtocol(walks, rows)[0];
+  EXPECT_EQ(cross.metrics.enrolled_probes, 40);
+  EXPECT_EQ(cross.metrics.cmc.size(), 3u);
+  EXPECT_NE(cross.note.find("1 people left out"), std::string::npos) << cross.note;
+}
+
 TEST(GaitIdEvaluation, LearnedProjectionsIdentifyToo) {
   for (FeatureTransform kind : {FeatureTransform::kPca, FeatureTransform::kLda}) {
     std::vector<FeatureRow> rows = thesisRows();

@@ -27,7 +27,7 @@ NamedMetrics toyResult() {
       {2, 4, true, {{1, 4, 0.3}, {2, 4, 0.4}}},  // wrong at rank 1
       {3, 1, false, {{2, 1, 0.2}, {1, 1, 0.7}}},
   };
-  return {"3D dynamic", evaluateRecognition(probes), ThesisFigures{98.96, 0.41}};
+  return {"3D dynamic", evaluateRecognition(probes), ThesisFigures{98.96, 0.41}, "a note"};
 }
 
 bool near(const cv::Vec3b& pixel, const cv::Scalar& colour, int tolerance) {
@@ -50,6 +50,7 @@ TEST(RecognitionReport, YamlReadsBackTheFigures) {
   EXPECT_EQ(root["settings"]["protocol"].as<std::string>(), "thesis");
   const YAML::Node result = root["results"][0];
   EXPECT_EQ(result["name"].as<std::string>(), "3D dynamic");
+  EXPECT_EQ(result["note"].as<std::string>(), "a note");
   EXPECT_DOUBLE_EQ(result["identification_rate"]["rate"].as<double>(), 0.5);
   EXPECT_EQ(result["identification_rate"]["n"].as<int>(), 2);
   EXPECT_EQ(result["identification_rate"]["ci95"].size(), 2u);

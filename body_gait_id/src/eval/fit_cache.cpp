@@ -48,7 +48,13 @@ std::string scanKey(const body_scan::sim::HumanBodySpec& spec, const std::string
   return text;
 }
 
-FitCache::FitCache(std::string folder) : folder_(std::move(folder)) {}
+FitCache::FitCache(std::string folder) : folder_(std::move(folder)) {
+  if (folder_.empty()) return;
+  const std::string probe = folder_ + "/.write_test";
+  body_scan::writeFileAtomically(probe, "");  // creates the folder, or says why it cannot
+  std::error_code ignored;
+  std::filesystem::remove(probe, ignored);
+}
 
 std::string FitCache::pathOf(const std::string& key) const {
   return folder_ + "/fit_" + key + ".yaml";

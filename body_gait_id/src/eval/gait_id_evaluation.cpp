@@ -120,6 +120,12 @@ class ProjectedRanker {
   std::vector<std::pair<std::int64_t, int>> ids_;  // subject, frame
 };
 
+std::string droppedNote(int dropped_people) {
+  if (dropped_people == 0) return "";
+  return std::to_string(dropped_people) +
+         " people left out: a walk could not be fitted or gave no forward stride";
+}
+
 std::string transformSuffix(const TransformOptions& transform) {
   switch (transform.kind) {
     case FeatureTransform::kPca:
@@ -274,7 +280,7 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row, int gal
     if (enrolled_person && !in_gallery[person]) continue;  // dropped above
     const std::optional<WalkCycles> cycles = cyclesOf(walks[person].at(probe_trial));
     if (!cycles) {
-      if (!enrolled_person) ++result.dropped_people;
+      ++result.dropped_people;  // no probes from this person
       continue;
     }
     for (int f = 0; f < static_cast<int>(cycles->eta3.frames.size()); ++f) {
@@ -306,8 +312,8 @@ std::vector<NamedMetrics> thesisProtocol(const FittedWalks& walks,
   for (const FeatureRow& row : rows) {
     const ProbeSet set =
         identifyProbes(walks, row, 0, 0, static_cast<int>(walks.size()), frames, transform);
-    results.push_back(
-        {row.name + transformSuffix(transform), evaluateRecognition(set.probes), row.thesis});
+    results.push_back({row.name + transformSuffix(transform), evaluateRecognition(set.probes),
+                       row.thesis, droppedNote(set.dropped_people)});
   }
   return results;
 }
@@ -329,7 +335,7 @@ std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
       metrics.open_set = decided(open).open_set;
     }
     results.push_back({row.name + transformSuffix(transform) + (per_walk ? " per walk" : ""),
-                       metrics, std::nullopt});
+                       metrics, std::nullopt, droppedNote(closed.dropped_people)});
   }
   return results;
 }

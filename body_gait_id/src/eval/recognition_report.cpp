@@ -31,6 +31,7 @@ void emitMetrics(YAML::Emitter& out, const NamedMetrics& named) {
   out << YAML::Key << "average_pose_error_frames" << YAML::Value << m.average_pose_error;
   out << YAML::Key << "average_cyclic_pose_error_frames" << YAML::Value
       << m.average_cyclic_pose_error;
+  if (!named.note.empty()) out << YAML::Key << "note" << YAML::Value << named.note;
   if (named.thesis) {
     out << YAML::Key << "thesis" << YAML::Value << YAML::Flow << YAML::BeginMap;
     out << YAML::Key << "identification_rate_percent" << YAML::Value
@@ -120,6 +121,7 @@ std::string recognitionTable(const std::vector<NamedMetrics>& results) {
                     r.thesis->average_pose_error_frames);
       table += line;
     }
+    if (!r.note.empty()) table += "  (" + r.note + ")";
     table += "\n";
   }
   return table;
