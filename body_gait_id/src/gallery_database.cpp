@@ -3,6 +3,7 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 
@@ -39,18 +40,6 @@ CREATE TABLE normalization (  -- eqs 5.14-5.15 over the whole gallery, per view
 )sql";
 
 constexpr int kShapeSize = 2 * body_gait::kSegmentCount + 4;
-
-const char* viewName(View view) {
-  switch (view) {
-    case View::kFrontal:
-      return "frontal";
-    case View::kSide:
-      return "side";
-    case View::k3D:
-      break;
-  }
-  return "3d";
-}
 
 constexpr View kViews[] = {View::k3D, View::kFrontal, View::kSide};
 
@@ -160,6 +149,42 @@ class Transaction {
 };
 
 }  // namespace
+
+std::string defaultGalleryPath() {
+  if (const char* ros_home = std::getenv("ROS_HOME"); ros_home && *ros_home)
+    return std::string(ros_home) + "/gait_gallery.db";
+  if (const char* home = std::getenv("HOME"); home && *home)
+    return std::string(home) + "/.ros/gait_gallery.db";
+  return "gait_gallery.db";
+}
+
+const char* viewName(View view) {
+  switch (view) {
+    case View::kFrontal:
+      return "frontal";
+    case View::kSide:
+      return "side";
+    case View::k3D:
+      break;
+  }
+  return "3d";
+}
+
+View parseView(const std::string& name) {
+  for (View view : kViews)
+    if (name == viewName(view)) return view;
+  throw std::invalid_argument("unknown view '" + name + "': use 3d, frontal or side");
+}
+
+const char* featureSetName(FeatureSet set) {
+  return set == FeatureSet::kDynamic ? "dynamic" : "dynamic_static";
+}
+
+FeatureSet parseFeatureSet(const std::string& name) {
+  for (FeatureSet set : {FeatureSet::kDynamic, FeatureSet::kDynamicStatic})
+    if (name == featureSetName(set)) return set;
+  throw std::invalid_argument("unknown feature set '" + name + "': use dynamic or dynamic_static");
+}
 
 void GalleryDatabase::fail(int code, const std::string& what) const {
   const std::string file = "gallery database '" + path_ + "'";

@@ -55,40 +55,52 @@ void emit(std::ostream& out, const YAML::Node& node) {
 }  // namespace
 
 std::vector<BodyModel> readBodyModels(const std::string& path) {
-  YAML::Node root;
+  std::vector<YAML::Node> documents;
   try {
-    root = YAML::LoadFile(path);
+    documents = YAML::LoadAllFromFile(path);
   } catch (const YAML::BadFile&) {
     throw std::runtime_error("body models file '" + path +
                              "' cannot be read: check the path (a YAML file with 'poses:')");
   } catch (const YAML::Exception& e) {
     throw std::runtime_error("body models file '" + path + "' is not valid YAML: " + e.what());
   }
-  const YAML::Node poses = root["poses"];
-  if (!poses || !poses.IsSequence())
+  // Either one document with a 'poses:' list, or BodyModel messages one per document as
+  // `rostopic echo /body_gait/model` prints them (same keys).
+  std::vector<YAML::Node> poses;
+  if (documents.size() == 1 && documents[0].IsMap() && documents[0]["poses"]) {
+    if (!documents[0]["poses"].IsSequence())
+      throw std::runtime_error("body models file '" + path + "': 'poses' must be a list");
+    for (const YAML::Node& pose : documents[0]["poses"]) poses.push_back(pose);
+  } else {
+    for (const YAML::Node& document : documents)
+      if (document.IsMap() && document["p"]) poses.push_back(document);
+  }
+  if (poses.empty())
     throw std::runtime_error("body models file '" + path +
-                             "' has no 'poses:' list (each pose: p, q, r; see models_file.h)");
+                             "' has no 'poses:' list and no BodyModel messages (each pose: p, q, "
+                             "r; see models_file.h)");
   std::vector<BodyModel> models;
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const std::string where = "body models file '" + path + "', pose " + std::to_string(i + 1);
+    const YAML::Node& pose = poses[i];
     try {
       BodyModel m;
       m.shape = body_gait::standingModel(1.70).shape;
-      readArray(poses[i], "p", m.p, where);
-      readArray(poses[i], "q", m.q, where);
-      readArray(poses[i], "r", m.r, where);
-      if (poses[i]["proximal_radius"]) {
+      readArray(pose, "p", m.p, where);
+      readArray(pose, "q", m.q, where);
+      readArray(pose, "r", m.r, where);
+      if (pose["proximal_radius"]) {
         Eigen::Map<Eigen::VectorXd> proximal(m.shape.proximal_radius.data(),
                                              body_gait::kSegmentCount);
         Eigen::Map<Eigen::VectorXd> distal(m.shape.distal_radius.data(), body_gait::kSegmentCount);
-        readArray(poses[i], "proximal_radius", proximal, where);
-        readArray(poses[i], "distal_radius", distal, where);
+        readArray(pose, "proximal_radius", proximal, where);
+        readArray(pose, "distal_radius", distal, where);
       }
       for (auto [key, value] : {std::pair{"shoulder_half_width", &m.shape.shoulder_half_width},
                                 {"shoulder_drop", &m.shape.shoulder_drop},
                                 {"hip_half_width", &m.shape.hip_half_width},
                                 {"hip_rise", &m.shape.hip_rise}})
-        if (poses[i][key]) *value = poses[i][key].as<double>();
+        if (pose[key]) *value = pose[key].as<double>();
       models.push_back(m);
     } catch (const YAML::Exception& e) {
       throw std::runtime_error(where + ": not a number (" + e.what() + ")");

@@ -23,9 +23,20 @@ CachedFit someFit() {
   return fit;
 }
 
-TEST(FitCache, SerializationRoundTripsExactly) {
+fs::path scratch() {
+  const fs::path folder =
+      fs::temp_directory_path() / ("test_fit_cache_" + std::to_string(getpid()));
+  fs::remove_all(folder);
+  return folder;
+}
+
+TEST(FitCache, StoredFitsComeBackExactly) {
+  const fs::path folder = scratch();
+  const FitCache cache(folder.string());
   const CachedFit fit = someFit();
-  const std::optional<CachedFit> back = parseFit(serializeFit(fit));
+  EXPECT_FALSE(cache.load("0123456789abcdef").has_value());
+  cache.store("0123456789abcdef", fit);
+  const std::optional<CachedFit> back = cache.load("0123456789abcdef");
   ASSERT_TRUE(back.has_value());
   EXPECT_EQ(back->model.p, fit.model.p);
   EXPECT_EQ(back->model.q, fit.model.q);
@@ -36,13 +47,30 @@ TEST(FitCache, SerializationRoundTripsExactly) {
   EXPECT_EQ(back->model.shape.hip_rise, fit.model.shape.hip_rise);
   EXPECT_TRUE(back->low_quality);
   EXPECT_EQ(back->points, 412345);
+  fs::remove_all(folder);
 }
 
-TEST(FitCache, ForeignOrTruncatedTextIsNoFit) {
+TEST(FitCache, DamagedForeignOrOldEntriesAreMisses) {
+  const fs::path folder = scratch();
+  const FitCache cache(folder.string());
+  const std::string key = "0123456789abcdef";
   const std::string text = serializeFit(someFit());
-  EXPECT_FALSE(parseFit(text.substr(0, text.size() - 5)).has_value());
-  EXPECT_FALSE(parseFit("body_gait_id fitted model v0\n" + text.substr(text.find('\n') + 1)));
-  EXPECT_FALSE(parseFit("").has_value());
+  auto entry = [&](const std::string& contents) {
+    fs::create_directories(folder);
+    std::ofstream(cache.pathOf(key)) << contents;
+    return cache.load(key);
+  };
+  ASSERT_TRUE(entry(text).has_value());
+  EXPECT_FALSE(entry(text.substr(0, text.size() / 2)).has_value());  // truncated
+  EXPECT_FALSE(entry("garbage: [").has_value());
+  std::string old = text;
+  old.replace(old.find("cache_version: 1"), 16, "cache_version: 0");
+  EXPECT_FALSE(entry(old).has_value());
+  fs::remove_all(folder);
+
+  const FitCache disabled;
+  disabled.store(key, someFit());
+  EXPECT_FALSE(disabled.load(key).has_value());
 }
 
 TEST(FitCache, KeyChangesWithSpecAndScanner) {
@@ -60,26 +88,6 @@ TEST(FitCache, KeyChangesWithSpecAndScanner) {
   moved = spec;
   moved.materials.hair.albedo = 0.05;
   EXPECT_NE(scanKey(moved, "sampler"), key);
-}
-
-TEST(FitCache, StoresAndLoadsInItsFolder) {
-  const fs::path folder =
-      fs::temp_directory_path() / ("test_fit_cache_" + std::to_string(getpid()));
-  fs::remove_all(folder);
-  const FitCache cache(folder.string());
-  EXPECT_FALSE(cache.load("0123456789abcdef").has_value());
-  cache.store("0123456789abcdef", someFit());
-  const std::optional<CachedFit> back = cache.load("0123456789abcdef");
-  ASSERT_TRUE(back.has_value());
-  EXPECT_EQ(back->model.q, someFit().model.q);
-  // A damaged entry is a miss (the evaluation fits again and overwrites it).
-  std::ofstream(cache.pathOf("0123456789abcdef")) << "garbage";
-  EXPECT_FALSE(cache.load("0123456789abcdef").has_value());
-  fs::remove_all(folder);
-
-  const FitCache disabled;
-  disabled.store("0123456789abcdef", someFit());
-  EXPECT_FALSE(disabled.load("0123456789abcdef").has_value());
 }
 
 }  // namespace

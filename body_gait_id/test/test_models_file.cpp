@@ -54,6 +54,29 @@ TEST_F(ModelsFileTest, WrittenModelsReadBackExactly) {
   }
 }
 
+// `rostopic echo` output: one BodyModel message per document, with fields we ignore.
+TEST_F(ModelsFileTest, ReadsBodyModelMessagesAsRostopicEchoPrintsThem) {
+  std::string text;
+  for (double swing : {0.3, -0.2}) {
+    std::ostringstream one;
+    writeBodyModels(one, {pose(1.8, swing)});
+    std::string pose_text = one.str();
+    // writeBodyModels nests the pose under "poses:\n  - "; rostopic echo prints it flat.
+    YAML::Node node = YAML::Load(pose_text)["poses"][0];
+    node["header"]["frame_id"] = "world";
+    node["segment_names"].push_back("upper_torso");
+    node["rms_distance"] = 0.012;
+    YAML::Emitter out;
+    out.SetDoublePrecision(17);
+    out << node;
+    text += std::string(out.c_str()) + "\n---\n";
+  }
+  const std::vector<body_gait::BodyModel> read = readBodyModels(write("echo.yaml", text));
+  ASSERT_EQ(read.size(), 2u);
+  EXPECT_EQ(read[1].q, pose(1.8, -0.2).q);
+  EXPECT_EQ(read[0].r, pose(1.8, 0.3).r);
+}
+
 TEST_F(ModelsFileTest, BadFilesNameTheProblem) {
   const auto error = [](const std::string& path) {
     try {
@@ -64,7 +87,8 @@ TEST_F(ModelsFileTest, BadFilesNameTheProblem) {
     return std::string();
   };
   EXPECT_NE(error((dir_ / "missing.yaml").string()).find("cannot be read"), std::string::npos);
-  EXPECT_NE(error(write("a.yaml", "models: []\n")).find("no 'poses:' list"), std::string::npos);
+  EXPECT_NE(error(write("a.yaml", "models: []\n")).find("no 'poses:' list and no BodyModel"),
+            std::string::npos);
   const std::string short_q = error(write("b.yaml",
                                           "poses:\n  - {p: [0,0,0,0,0,0], q: [1, 2], "
                                           "r: [1,1,1,1,1,1,1,1,1,1,1,1]}\n"));

@@ -135,6 +135,34 @@ TEST(EvaluateRecognition, BadInputNamesTheProbeAndTheFix) {
   EXPECT_THROW(evaluateRecognition(probes), std::invalid_argument);
 }
 
+TEST(PerWalkProbes, MeanScoresOverEachWalkDecideOnce) {
+  // Subject 1's walk: frame 2 alone would go to subject 2, the walk's mean does not.
+  const std::vector<ProbeResult> frames = {
+      {1, 1, true, {{1, 1, 0.1}, {2, 1, 0.5}}},  {1, 2, true, {{2, 2, 0.2}, {1, 2, 0.3}}},
+      {2, 1, true, {{2, 1, 0.4}, {1, 1, 0.6}}},  {3, 1, false, {{1, 1, 0.7}, {2, 1, 0.9}}},
+      {3, 2, false, {{2, 2, 0.8}, {1, 2, 0.9}}},
+  };
+  const std::vector<ProbeResult> walks = perWalkProbes(frames);
+  ASSERT_EQ(walks.size(), 3u);
+  EXPECT_EQ(walks[0].true_subject, 1);
+  ASSERT_EQ(walks[0].candidates.size(), 2u);
+  EXPECT_EQ(walks[0].candidates[0].subject_id, 1);
+  EXPECT_DOUBLE_EQ(walks[0].candidates[0].score, 0.2);   // (0.1 + 0.3) / 2
+  EXPECT_DOUBLE_EQ(walks[0].candidates[1].score, 0.35);  // (0.5 + 0.2) / 2
+  EXPECT_DOUBLE_EQ(walks[1].candidates[0].score, 0.4);
+  EXPECT_FALSE(walks[2].enrolled);
+  EXPECT_DOUBLE_EQ(walks[2].candidates[0].score, 0.8);  // subject 1: (0.7 + 0.9) / 2
+  EXPECT_DOUBLE_EQ(walks[2].candidates[1].score, 0.85);
+  const RecognitionMetrics per_frame = evaluateRecognition(frames);
+  const RecognitionMetrics per_walk = evaluateRecognition(walks);
+  EXPECT_EQ(per_frame.identification.count, 2);  // of 3 frames
+  EXPECT_EQ(per_walk.identification.count, 2);   // of 2 walks
+  EXPECT_EQ(per_walk.identification.n, 2);
+  std::vector<ProbeResult> ragged = frames;
+  ragged[1].candidates.pop_back();
+  EXPECT_THROW(perWalkProbes(ragged), std::invalid_argument);
+}
+
 TEST(LinearFeatureTransform, PcaFindsTheDirectionOfLargestVariance) {
   // Points spread along (0.6, 0.8) by +-20, and +-0.1 across it, uncorrelated.
   const Eigen::Vector2d along(0.6, 0.8), across(-0.8, 0.6), centre(3, -1);

@@ -99,7 +99,11 @@ TEST(RecognitionPlot, CurvesAreDrawnWhereTheDataPutsThem) {
   writePng(path.string(), plotPanels(panels));
   const cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
   ASSERT_FALSE(image.empty()) << path;
-  EXPECT_EQ(image.cols, 2 * image.rows * 520 / 420);
+  EXPECT_EQ(image.cols, 2 * 520);
+  EXPECT_GT(image.rows, 420);  // the panels and one legend row below them
+  // Legend below the second panel: its first entry's line sample in the first curve's colour.
+  EXPECT_TRUE(near(image.at<cv::Vec3b>(420 + 12 - 4, 520 + 20 + 10), curveColour(0), 30));
+  EXPECT_TRUE(near(image.at<cv::Vec3b>(420 + 12 - 4, 520 + 20 + 260 + 10), curveColour(1), 30));
   // On the curves, away from ticks and points: the curve's colour.
   EXPECT_TRUE(near(image.at<cv::Vec3b>(plotPixel(panels, 0, 2.5, 0.6)), curveColour(0), 30));
   EXPECT_TRUE(near(image.at<cv::Vec3b>(plotPixel(panels, 1, 0.4, 0.4)), curveColour(0), 30));
@@ -109,6 +113,22 @@ TEST(RecognitionPlot, CurvesAreDrawnWhereTheDataPutsThem) {
   EXPECT_TRUE(near(image.at<cv::Vec3b>(plotPixel(panels, 1, 0.1, 0.6)), {255, 255, 255}, 0));
   // The frame of the second panel is black at its corner.
   EXPECT_TRUE(near(image.at<cv::Vec3b>(plotPixel(panels, 1, 0, 1)), {0, 0, 0}, 0));
+}
+
+TEST(RecognitionPlot, LogAxisPutsDecadesEvenlyApart) {
+  std::vector<PlotPanel> panels(1);
+  panels[0].x_min = 1e-3;
+  panels[0].log_x = true;
+  const int x_milli = plotPixel(panels, 0, 1e-3, 0).x, x_centi = plotPixel(panels, 0, 1e-2, 0).x;
+  const int x_deci = plotPixel(panels, 0, 0.1, 0).x, x_one = plotPixel(panels, 0, 1, 0).x;
+  EXPECT_NEAR(x_centi - x_milli, x_deci - x_centi, 1);
+  EXPECT_NEAR(x_one - x_deci, x_deci - x_centi, 1);
+  EXPECT_EQ(plotPixel(panels, 0, 0.0, 0).x, x_milli);  // FAR 0 is drawn at the axis' start
+  const cv::Mat image = plotPanels(panels);
+  // The decade ticks' grid lines (grey) are drawn at those columns, mid-height.
+  const int row = plotPixel(panels, 0, 1e-2, 0.375).y;
+  EXPECT_TRUE(near(image.at<cv::Vec3b>(row, x_centi), {215, 215, 215}, 0));
+  EXPECT_TRUE(near(image.at<cv::Vec3b>(row, x_deci), {215, 215, 215}, 0));
 }
 
 TEST(RecognitionPlot, CmcAndRocPanelsOfResults) {

@@ -54,6 +54,17 @@ struct PoseRecord {
   body_gait::BodyModel model;
 };
 
+// The gallery file the node and the CLI use when none is given: $ROS_HOME/gait_gallery.db
+// ($HOME/.ros when ROS_HOME is unset, the working directory when HOME is unset too).
+std::string defaultGalleryPath();
+
+// "3d", "frontal", "side" and back; parseView throws std::invalid_argument naming the choices.
+const char* viewName(View view);
+View parseView(const std::string& name);
+// "dynamic", "dynamic_static" and back.
+const char* featureSetName(FeatureSet set);
+FeatureSet parseFeatureSet(const std::string& name);
+
 class GalleryDatabase {
  public:
   static constexpr int kSchemaVersion = 1;

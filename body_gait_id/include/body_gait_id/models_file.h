@@ -7,6 +7,9 @@
 //       # optional shape (default: the shape of standingModel(1.70)):
 //       proximal_radius: [12], distal_radius: [12]
 //       shoulder_half_width: 0.18, shoulder_drop: 0.06, hip_half_width: 0.09, hip_rise: 0.05
+//
+// or BodyModel messages one per YAML document, as `rostopic echo -n 4 /body_gait/model > f.yaml`
+// writes them (the message has the same keys; its other fields are ignored).
 #pragma once
 
 #include <body_gait_id/gallery_database.h>

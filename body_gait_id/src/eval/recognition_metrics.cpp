@@ -158,6 +158,35 @@ RecognitionMetrics evaluateRecognition(const std::vector<ProbeResult>& probes,
   return metrics;
 }
 
+std::vector<ProbeResult> perWalkProbes(const std::vector<ProbeResult>& frame_probes) {
+  std::vector<ProbeResult> walks;
+  std::size_t begin = 0;
+  while (begin < frame_probes.size()) {
+    const ProbeResult& first = frame_probes[begin];
+    std::size_t end = begin + 1;
+    while (end < frame_probes.size() && frame_probes[end].true_subject == first.true_subject &&
+           frame_probes[end].enrolled == first.enrolled)
+      ++end;
+    std::map<std::int64_t, double> sum;
+    for (std::size_t i = begin; i < end; ++i) {
+      for (const RankedCandidate& c : frame_probes[i].candidates) sum[c.subject_id] += c.score;
+      if (frame_probes[i].candidates.size() != sum.size())
+        throw std::invalid_argument("probe " + std::to_string(i) + " (subject " +
+                                    std::to_string(first.true_subject) +
+                                    ") ranks other subjects than its walk's first frame: rank "
+                                    "every enrolled subject for every frame");
+    }
+    ProbeResult walk{first.true_subject, 0, first.enrolled, {}};
+    for (const auto& [subject, total] : sum)
+      walk.candidates.push_back({subject, 0, total / static_cast<double>(end - begin)});
+    std::stable_sort(walk.candidates.begin(), walk.candidates.end(),
+                     [](const auto& a, const auto& b) { return a.score < b.score; });
+    walks.push_back(std::move(walk));
+    begin = end;
+  }
+  return walks;
+}
+
 LinearFeatureTransform LinearFeatureTransform::pca(const Eigen::MatrixXd& samples, int components) {
   if (samples.rows() < 2 || components < 1 || components > samples.cols())
     throw std::invalid_argument("PCA needs at least 2 samples and 1 <= components (" +

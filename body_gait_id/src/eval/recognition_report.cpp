@@ -105,12 +105,12 @@ void writeRecognitionReport(const std::string& path, const RecognitionReport& re
 
 std::string recognitionTable(const std::vector<NamedMetrics>& results) {
   std::string table =
-      "features                    rank-1 %  (95% CI)          pose err  cyclic   EER %   "
+      "features                          rank-1 %  (95% CI)          pose err  cyclic   EER %   "
       "thesis: rank-1 %  pose err\n";
   for (const NamedMetrics& r : results) {
     const RecognitionMetrics& m = r.metrics;
     char line[256];
-    std::snprintf(line, sizeof(line), "%-26s  %s  [%s, %s]  %8.2f  %6.2f  %6.2f", r.name.c_str(),
+    std::snprintf(line, sizeof(line), "%-32s  %s  [%s, %s]  %8.2f  %6.2f  %6.2f", r.name.c_str(),
                   percent(m.identification.rate).c_str(), percent(m.identification.ci_low).c_str(),
                   percent(m.identification.ci_high).c_str(), m.average_pose_error,
                   m.average_cyclic_pose_error, 100 * m.equal_error_rate);
@@ -130,6 +130,7 @@ namespace {
 
 constexpr int kPanelWidth = 520, kPanelHeight = 420;
 constexpr int kLeft = 70, kRight = 20, kTop = 40, kBottom = 60;  // margins inside a panel
+constexpr int kLegendRow = 18;                                   // below the panels
 
 std::string tickLabel(double value) {
   char text[32];
@@ -137,9 +138,16 @@ std::string tickLabel(double value) {
   return text;
 }
 
-std::vector<double> ticksOf(const std::vector<double>& given, double low, double high) {
+std::vector<double> ticksOf(const std::vector<double>& given, double low, double high,
+                            bool log_axis = false) {
   if (!given.empty()) return given;
   std::vector<double> ticks;
+  if (log_axis) {
+    for (double t = std::pow(10.0, std::ceil(std::log10(low) - 1e-9)); t <= high * (1 + 1e-9);
+         t *= 10)
+      ticks.push_back(t);
+    return ticks;
+  }
   for (int i = 0; i <= 4; ++i) ticks.push_back(low + i * (high - low) / 4);
   return ticks;
 }
@@ -147,24 +155,33 @@ std::vector<double> ticksOf(const std::vector<double>& given, double low, double
 }  // namespace
 
 cv::Scalar curveColour(int index) {
-  static const cv::Scalar kColours[] = {{200, 80, 0},  {0, 0, 220},   {0, 150, 0},
-                                        {180, 0, 180}, {0, 140, 255}, {120, 120, 0}};
-  return kColours[index % 6];
+  // BGR, told apart in print and by most colour-blind readers (Okabe-Ito order) plus greys.
+  static const cv::Scalar kColours[] = {
+      {178, 114, 0},  {0, 94, 213}, {115, 158, 0},   {167, 121, 204}, {0, 159, 230}, {233, 180, 86},
+      {66, 228, 240}, {0, 0, 0},    {120, 120, 120}, {40, 40, 160},   {160, 160, 0}, {90, 0, 160}};
+  return kColours[index % 12];
 }
 
 cv::Point plotPixel(const std::vector<PlotPanel>& panels, int panel, double x, double y) {
   const PlotPanel& p = panels.at(panel);
   const double left = panel * kPanelWidth + kLeft, right = (panel + 1) * kPanelWidth - kRight;
   const double top = kTop, bottom = kPanelHeight - kBottom;
-  const double u = (x - p.x_min) / (p.x_max - p.x_min), v = (y - p.y_min) / (p.y_max - p.y_min);
+  const double u = p.log_x ? (std::log10(std::max(x, p.x_min)) - std::log10(p.x_min)) /
+                                 (std::log10(p.x_max) - std::log10(p.x_min))
+                           : (x - p.x_min) / (p.x_max - p.x_min);
+  const double v = (y - p.y_min) / (p.y_max - p.y_min);
   return {static_cast<int>(std::lround(left + u * (right - left))),
           static_cast<int>(std::lround(bottom - v * (bottom - top)))};
 }
 
 cv::Mat plotPanels(const std::vector<PlotPanel>& panels) {
   const cv::Scalar black(0, 0, 0), grey(215, 215, 215);
-  cv::Mat image(kPanelHeight, std::max<int>(1, panels.size()) * kPanelWidth, CV_8UC3,
-                cv::Scalar(255, 255, 255));
+  // Legends go below the panels, two entries per row, so they never hide a curve.
+  std::size_t most_curves = 0;
+  for (const PlotPanel& p : panels) most_curves = std::max(most_curves, p.curves.size());
+  const int legend_rows = static_cast<int>(most_curves + 1) / 2;
+  cv::Mat image(kPanelHeight + kLegendRow * legend_rows + (legend_rows > 0 ? 8 : 0),
+                std::max<int>(1, panels.size()) * kPanelWidth, CV_8UC3, cv::Scalar(255, 255, 255));
   auto text = [&](const std::string& s, cv::Point at, double scale) {
     cv::putText(image, s, at, cv::FONT_HERSHEY_SIMPLEX, scale, black, 1, cv::LINE_AA);
   };
@@ -173,7 +190,7 @@ cv::Mat plotPanels(const std::vector<PlotPanel>& panels) {
     const cv::Point top_left = plotPixel(panels, i, p.x_min, p.y_max);
     const cv::Point bottom_right = plotPixel(panels, i, p.x_max, p.y_min);
     text(p.title, {top_left.x + 140, kTop - 18}, 0.55);
-    for (double t : ticksOf(p.x_ticks, p.x_min, p.x_max)) {
+    for (double t : ticksOf(p.x_ticks, p.x_min, p.x_max, p.log_x)) {
       const int column = plotPixel(panels, i, t, p.y_min).x;
       cv::line(image, {column, top_left.y}, {column, bottom_right.y}, grey, 1);
       cv::line(image, {column, bottom_right.y}, {column, bottom_right.y + 5}, black, 1);
@@ -196,12 +213,12 @@ cv::Mat plotPanels(const std::vector<PlotPanel>& panels) {
         polyline.push_back(plotPixel(panels, i, point.x, point.y));
       const cv::Scalar colour = curveColour(c);
       if (polyline.size() > 1) cv::polylines(image, polyline, false, colour, 2, cv::LINE_AA);
-      for (const cv::Point& point : polyline) cv::circle(image, point, 3, colour, cv::FILLED);
-      // Legend: bottom right inside the frame, one line per curve.
-      const int row = bottom_right.y - 12 - 18 * (static_cast<int>(p.curves.size()) - 1 - c);
-      const int column = bottom_right.x - 200;
+      if (polyline.size() <= 30)  // markers where the points are few enough to tell apart
+        for (const cv::Point& point : polyline) cv::circle(image, point, 3, colour, cv::FILLED);
+      const int row = kPanelHeight + kLegendRow * (c / 2) + 12;
+      const int column = i * kPanelWidth + 20 + (c % 2) * (kPanelWidth / 2);
       cv::line(image, {column, row - 4}, {column + 20, row - 4}, colour, 2);
-      text(curve.label, {column + 26, row}, 0.42);
+      text(curve.label, {column + 26, row}, 0.4);
     }
   }
   return image;
@@ -209,8 +226,17 @@ cv::Mat plotPanels(const std::vector<PlotPanel>& panels) {
 
 std::vector<PlotPanel> cmcAndRocPanels(const std::vector<NamedMetrics>& results) {
   PlotPanel cmc{"CMC", "rank", "identification rate", 1, 5, 0, 1, {}, {}, {}};
-  PlotPanel roc{
-      "verification ROC", "false accept rate", "genuine accept rate", 0, 1, 0, 1, {}, {}, {}};
+  PlotPanel roc{"verification ROC",
+                "false accept rate",
+                "genuine accept rate",
+                1e-3,
+                1,
+                0,
+                1,
+                {},
+                {},
+                {},
+                true};
   int max_rank = 1;
   for (const NamedMetrics& r : results) {
     const RecognitionMetrics& m = r.metrics;

@@ -94,11 +94,9 @@ sensor_msgs::PointCloud2 cloudToMsg(const Cloud& cloud, const std_msgs::Header& 
   return msg;
 }
 
-body_scan_msgs::BodyModel toMsg(const BodyFit& fit, const std_msgs::Header& header,
-                                double fit_seconds) {
+body_scan_msgs::BodyModel toMsg(const BodyModel& model, const std_msgs::Header& header) {
   body_scan_msgs::BodyModel msg;
   msg.header = header;
-  const BodyModel& model = fit.model;
   msg.p = vector(model.p);
   msg.q = vector(model.q);
   msg.r = vector(model.r);
@@ -106,12 +104,19 @@ body_scan_msgs::BodyModel toMsg(const BodyFit& fit, const std_msgs::Header& head
     msg.segment_names.push_back(segmentInfo(s).name);
     msg.proximal_radius.push_back(model.shape.proximal_radius[s]);
     msg.distal_radius.push_back(model.shape.distal_radius[s]);
-    msg.points_per_segment.push_back(fit.quality.points_per_segment[s]);
   }
   msg.shoulder_half_width = model.shape.shoulder_half_width;
   msg.shoulder_drop = model.shape.shoulder_drop;
   msg.hip_half_width = model.shape.hip_half_width;
   msg.hip_rise = model.shape.hip_rise;
+  return msg;
+}
+
+body_scan_msgs::BodyModel toMsg(const BodyFit& fit, const std_msgs::Header& header,
+                                double fit_seconds) {
+  body_scan_msgs::BodyModel msg = toMsg(fit.model, header);
+  msg.points_per_segment.assign(fit.quality.points_per_segment.begin(),
+                                fit.quality.points_per_segment.end());
   msg.rms_distance = fit.quality.rms_distance;
   msg.explained_fraction = fit.quality.explained_fraction;
   msg.low_quality = fit.quality.low_quality;

@@ -17,10 +17,9 @@ struct CachedFit {
   int points = 0;            // points of the scanned cloud
 };
 
-// Text form of a fit (every number at full precision; one version line first).
+// A cache entry is a body models file (models_file.h, exact round trip) with one pose and the
+// keys cache_version, low_quality and points beside 'poses:'.
 std::string serializeFit(const CachedFit& fit);
-// nullopt when the text is not a fit of this version (old, truncated or foreign file).
-std::optional<CachedFit> parseFit(const std::string& text);
 
 // Key of everything a scan depends on: the spec's numbers (body, pose, materials, position; as
 // raw bytes, so a field added to them changes the key) and the scanner's settings (a string the
@@ -31,6 +30,7 @@ class FitCache {
  public:
   // An empty folder disables the cache (load finds nothing, store does nothing).
   explicit FitCache(std::string folder = {});
+  // nullopt when absent, of another version, truncated or damaged (the caller fits again).
   std::optional<CachedFit> load(const std::string& key) const;
   // Written atomically; throws body_scan::FileWriteError naming the file and the fix.
   void store(const std::string& key, const CachedFit& fit) const;

@@ -82,6 +82,12 @@ struct MetricsOptions {
 RecognitionMetrics evaluateRecognition(const std::vector<ProbeResult>& probes,
                                        const MetricsOptions& options = {});
 
+// One decision per walk (beyond the thesis): consecutive probes of the same true subject and
+// enrolment (one walk's frames) become one probe whose candidates score the MEAN of that
+// subject's frame scores, best first. Frames are 0 (no pose error per walk). Throws
+// std::invalid_argument when a walk's frames do not rank the same subjects.
+std::vector<ProbeResult> perWalkProbes(const std::vector<ProbeResult>& frame_probes);
+
 // Linear feature transform y = W^T (x - mean), fitted on gallery feature vectors (one per row).
 struct LinearFeatureTransform {
   Eigen::VectorXd mean;

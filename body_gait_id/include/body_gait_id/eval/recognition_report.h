@@ -49,8 +49,9 @@ struct PlotCurve {
 struct PlotPanel {
   std::string title, x_label, y_label;
   double x_min = 0, x_max = 1, y_min = 0, y_max = 1;
-  std::vector<double> x_ticks, y_ticks;  // empty: 5 even ticks
+  std::vector<double> x_ticks, y_ticks;  // empty: 5 even ticks (decades on a log axis)
   std::vector<PlotCurve> curves;
+  bool log_x = false;  // log10 x axis (x_min > 0); smaller x are drawn at x_min
 };
 
 // Panels side by side on a white image, each with a frame, ticks, labels and a legend.
@@ -60,8 +61,8 @@ cv::Point plotPixel(const std::vector<PlotPanel>& panels, int panel, double x, d
 // Colour (BGR) of the index-th curve of a panel.
 cv::Scalar curveColour(int index);
 
-// CMC (rank 1..K against identification rate) and verification ROC (false accept rate against
-// genuine accept rate), one curve per result.
+// CMC (rank 1..K against identification rate) and verification ROC (false accept rate, log
+// axis from 10^-3, against genuine accept rate), one curve per result.
 std::vector<PlotPanel> cmcAndRocPanels(const std::vector<NamedMetrics>& results);
 // Writes a PNG atomically; throws body_scan::FileWriteError naming the file and the fix.
 void writePng(const std::string& path, const cv::Mat& image);

@@ -20,6 +20,10 @@ Cloud cloudFromMsg(const sensor_msgs::PointCloud2& msg);
 // An unorganized FLOAT32 xyz cloud (tests, tools).
 sensor_msgs::PointCloud2 cloudToMsg(const Cloud& cloud, const std_msgs::Header& header);
 
+// A model with no fit behind it (gait cycles, simulated truth): the fit-quality fields stay
+// zero, points_per_segment empty.
+body_scan_msgs::BodyModel toMsg(const BodyModel& model, const std_msgs::Header& header);
+// A fitted model with its fit quality.
 body_scan_msgs::BodyModel toMsg(const BodyFit& fit, const std_msgs::Header& header,
                                 double fit_seconds);
 // The model a message describes; throws std::invalid_argument when an array has the wrong size.

@@ -1,0 +1,113 @@
+// End-to-end evaluation of gait recognition on simulated people (thesis 5.8.3-5.8.4 and beyond):
+// scanner simulation -> body fit (body_gait::fitBody) -> gait cycles (eqs 5.11-5.13) ->
+// features (5.7) -> nearest-neighbour identification (eq 5.16) -> metrics. Reads simulator
+// truth only to know who and which frame a probe is; the fitter and matcher never see it.
+#pragma once
+
+#include <body_gait_id/eval/recognition_metrics.h>
+#include <body_gait_id/eval/recognition_report.h>
+#include <body_gait_id/gait_features.h>
+#include <body_gait_model/gait_cycle.h>
+#include <body_scan_driver/sim/human_body.h>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace body_gait_id::eval {
+
+// Who walks through the scanner: person i's body in representative pose `pose` (1..4, thesis
+// 5.3) of walk `trial` (0, 1, ...), facing `heading` (rad about world z).
+struct PersonSource {
+  std::vector<std::string> names;
+  std::function<body_scan::sim::HumanBodySpec(int person, int pose, int trial, double heading)>
+      spec;
+};
+
+enum class ScannerKind {
+  kFull,     // the 12-pair scanner simulation (body_gait::eval::scanBodyWithFullScanner, ~4 s)
+  kSampler,  // rays cast into the scene from the same viewpoints (body_gait::eval::sampleBody)
+  // No scan and no fit: the model read off the simulator's skeleton (modelFromSkeleton). The
+  // upper bound of the features on these people: what a perfect fitter would give.
+  kTruth,
+};
+
+struct ScanOptions {
+  ScannerKind scanner = ScannerKind::kSampler;
+  int sampler_columns = 320;     // ray grid per viewpoint (sampler only)
+  double sampler_noise = 0.002;  // m along the ray (sampler only)
+  int threads = 2;
+  std::string cache_folder;  // empty: no cache
+  bool progress = true;      // one line per scan on stderr
+};
+
+struct FitSummary {
+  int scans = 0, cached = 0, failed = 0, low_quality = 0;
+  double seconds = 0;                 // wall time of the scans and fits
+  std::vector<std::string> failures;  // "<person> walk <t> pose <k>: <reason>"
+};
+
+// The fitted representative poses s1..s4 of every walk: walks[person][trial]; nullopt when a
+// pose could not be fitted.
+using FittedWalks = std::vector<std::vector<std::optional<body_gait::RepresentativePoses>>>;
+
+// Scans and fits every person's four poses of walks 0 .. trials - 1 on options.threads threads,
+// through the cache. Throws std::runtime_error naming the file when the cache cannot be written.
+FittedWalks fitWalks(const PersonSource& people, int trials, const ScanOptions& options,
+                     FitSummary* summary = nullptr);
+
+// A row of Tables 5.3 / 5.4: a view and a feature set, with the thesis's figures.
+struct FeatureRow {
+  std::string name;
+  View view = View::k3D;
+  FeatureSet set = FeatureSet::kDynamicStatic;
+  std::optional<ThesisFigures> thesis;
+};
+std::vector<FeatureRow> thesisRows();  // 3D, frontal, side x dynamic, dynamic+static
+
+// Optional learned projection of the normalized features (the thesis's future work), fitted on
+// the gallery: PCA keeps `components` (0: half the dimension), LDA subjects - 1 (capped at the
+// dimension). With a transform the ranking is a brute-force L2 scan of the projected vectors.
+enum class FeatureTransform { kNone, kPca, kLda };
+struct TransformOptions {
+  FeatureTransform kind = FeatureTransform::kNone;
+  int components = 0;
+};
+
+// Which frames of eta3 probe: the 16 interpolated ones, or all 20 (with the representative
+// frames 1, 6, 11, 16, whose poses s1..s4 are also in eta1 / eta2).
+enum class ProbeFrames { kInterpolated, kAll };
+
+// The probes of one evaluation. Gallery: eta1 and eta2 of walk `gallery_trial` (40 poses, 5.8.3)
+// of the first `enrolled` people; probes: frames of eta3 of walk `probe_trial` of every person
+// whose walk was fitted (people from `enrolled` on are not in the gallery: open set). People
+// whose gallery walk failed are left out entirely; `dropped_people` counts them and the people
+// whose probe walk failed.
+struct ProbeSet {
+  std::vector<ProbeResult> probes;
+  int dropped_people = 0;
+};
+ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row, int gallery_trial,
+                        int probe_trial, int enrolled, ProbeFrames frames,
+                        const TransformOptions& transform = {});
+
+// Thesis protocol (5.8.3): gallery and probes from walk 0 of every person, one result per row.
+// The thesis tests 96 poses of 6 subjects, i.e. the 16 interpolated frames per subject ("not
+// included in the training data ... absolutely no overlap"; 98.96 % = 95 / 96), so the default
+// probes are kInterpolated.
+std::vector<NamedMetrics> thesisProtocol(const FittedWalks& walks,
+                                         const std::vector<FeatureRow>& rows,
+                                         const TransformOptions& transform = {},
+                                         ProbeFrames frames = ProbeFrames::kInterpolated);
+// Cross-walk protocol: gallery from walk 0, probes all 20 frames of eta3 of walk 1 of the same
+// people (rank-1, CMC, ROC / EER); the open-set figures come from a second run that enrols only
+// the first half of the people and probes with all (the other half must be rejected).
+// per_walk: one decision per probe walk (perWalkProbes: mean frame scores), rows named
+// "... per walk".
+std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
+                                            const std::vector<FeatureRow>& rows,
+                                            const TransformOptions& transform = {},
+                                            bool per_walk = false);
+
+}  // namespace body_gait_id::eval

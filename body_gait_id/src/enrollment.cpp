@@ -1,0 +1,32 @@
+// Enrolment poses of thesis 5.8.3 from body_gait_model's gait-cycle reconstruction.
+#include <body_gait_id/enrollment.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace body_gait_id {
+
+std::vector<PoseRecord> trainingPoses(const body_gait::RepresentativePoses& s) {
+  std::vector<PoseRecord> poses;
+  poses.reserve(kTrainingPoses);
+  const body_gait::GaitSet sets[kTrainingSequences] = {body_gait::GaitSet::kEta1,
+                                                       body_gait::GaitSet::kEta2};
+  for (int sequence = 0; sequence < kTrainingSequences; ++sequence) {
+    const body_gait::GaitCycle cycle =
+        body_gait::reconstructGaitCycle(body_gait::gaitSet(s, sets[sequence]));
+    for (std::size_t f = 0; f < cycle.frames.size(); ++f)
+      poses.push_back({0, sequence, static_cast<int>(f) + 1, cycle.frames[f]});
+  }
+  return poses;
+}
+
+body_gait::RepresentativePoses representativePoses(const std::vector<body_gait::BodyModel>& s) {
+  if (s.size() != 4)
+    throw std::invalid_argument(
+        "enrolment needs exactly 4 representative poses s1..s4 (thesis "
+        "5.3 order), got " +
+        std::to_string(s.size()));
+  return {s[0], s[1], s[2], s[3]};
+}
+
+}  // namespace body_gait_id

@@ -1,0 +1,337 @@
+#include <body_gait_id/eval/fit_cache.h>
+#include <body_gait_id/eval/gait_id_evaluation.h>
+#include <body_gait_id/matcher.h>
+#include <body_gait_model/body_fitter.h>
+#include <body_gait_model/eval/body_cloud_sampler.h>
+#include <body_gait_model/eval/full_scanner_body.h>
+#include <body_gait_model/eval/skeleton_model.h>
+#include <body_scan_driver/atomic_file.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+namespace body_gait_id::eval {
+namespace {
+
+using body_gait::GaitSet;
+using Clock = std::chrono::steady_clock;
+
+std::string scannerSettings(const ScanOptions& options) {
+  if (options.scanner == ScannerKind::kFull) return "full scanner (thesis rig)";
+  if (options.scanner == ScannerKind::kTruth) return "true skeleton";
+  char text[96];
+  std::snprintf(text, sizeof(text), "sampler columns=%d noise=%.6g", options.sampler_columns,
+                options.sampler_noise);
+  return text;
+}
+
+CachedFit scanAndFit(const body_scan::sim::HumanBodySpec& spec, const ScanOptions& options) {
+  if (options.scanner == ScannerKind::kTruth)
+    return {body_gait::eval::modelFromSkeleton(spec), false, 0};
+  body_gait::eval::SampledBody body;
+  if (options.scanner == ScannerKind::kFull) {
+    body = body_gait::eval::scanBodyWithFullScanner(spec);
+  } else {
+    body_gait::eval::ScanRig rig;
+    rig.columns = options.sampler_columns;
+    rig.rows = options.sampler_columns * 13 / 16;  // the rig's default aspect (320 x 260)
+    rig.noise_sigma = options.sampler_noise;
+    body = body_gait::eval::sampleBody(spec, rig);
+  }
+  const body_gait::BodyFit fit = body_gait::fitBody(body.points);
+  return {fit.model, fit.quality.low_quality, static_cast<int>(body.points.size())};
+}
+
+// The three cycles of 5.8.3 from one walk's representative poses: eta1, eta2 (training) and
+// eta3 (testing); nullopt when the walk is missing or has no forward stride.
+struct WalkCycles {
+  body_gait::GaitCycle eta1, eta2, eta3;
+};
+std::optional<WalkCycles> cyclesOf(const std::optional<body_gait::RepresentativePoses>& walk) {
+  if (!walk) return std::nullopt;
+  try {
+    return WalkCycles{body_gait::reconstructGaitCycle(body_gait::gaitSet(*walk, GaitSet::kEta1)),
+                      body_gait::reconstructGaitCycle(body_gait::gaitSet(*walk, GaitSet::kEta2)),
+                      body_gait::reconstructGaitCycle(body_gait::gaitSet(*walk, GaitSet::kEta3))};
+  } catch (const std::invalid_argument&) {
+    return std::nullopt;  // e.g. a backwards fit: no forward stride
+  }
+}
+
+std::int64_t subjectId(int person) { return person + 1; }
+
+// Ranking through a learned projection: best gallery pose per subject, best first.
+class ProjectedRanker {
+ public:
+  ProjectedRanker(const std::vector<GalleryPose>& gallery, FeatureSet set,
+                  const TransformOptions& options)
+      : set_(set) {
+    std::vector<GaitFeatures> features;
+    for (const GalleryPose& pose : gallery) features.push_back(pose.features);
+    normalization_ = FeatureNormalization::fit(features);
+    Eigen::MatrixXd rows(gallery.size(), normalization_.size(set));
+    std::vector<std::int64_t> labels;
+    for (std::size_t i = 0; i < gallery.size(); ++i) {
+      rows.row(i) = normalization_.normalized(gallery[i].features, set).transpose();
+      labels.push_back(gallery[i].subject_id);
+    }
+    if (options.kind == FeatureTransform::kPca) {
+      const int components =
+          options.components > 0 ? options.components : (static_cast<int>(rows.cols()) + 1) / 2;
+      transform_ = LinearFeatureTransform::pca(rows, std::min<int>(components, rows.cols()));
+    } else {
+      std::vector<std::int64_t> subjects(labels);
+      std::sort(subjects.begin(), subjects.end());
+      subjects.erase(std::unique(subjects.begin(), subjects.end()), subjects.end());
+      const int most = std::min<int>(static_cast<int>(subjects.size()) - 1, rows.cols());
+      const int components = options.components > 0 ? std::min(options.components, most) : most;
+      transform_ = LinearFeatureTransform::lda(rows, labels, components);
+    }
+    projected_ = transform_.applyRows(rows);
+    for (const GalleryPose& pose : gallery) ids_.push_back({pose.subject_id, pose.frame});
+  }
+
+  std::vector<RankedCandidate> rank(const GaitFeatures& probe) const {
+    const Eigen::VectorXd y = transform_.apply(normalization_.normalized(probe, set_));
+    std::map<std::int64_t, RankedCandidate> best;
+    for (Eigen::Index i = 0; i < projected_.rows(); ++i) {
+      const double score = (projected_.row(i).transpose() - y).norm();
+      auto [it, inserted] = best.try_emplace(ids_[i].first, RankedCandidate{});
+      if (inserted || score < it->second.score) it->second = {ids_[i].first, ids_[i].second, score};
+    }
+    std::vector<RankedCandidate> ranked;
+    for (const auto& [id, candidate] : best) ranked.push_back(candidate);
+    std::stable_sort(ranked.begin(), ranked.end(),
+                     [](const auto& a, const auto& b) { return a.score < b.score; });
+    return ranked;
+  }
+
+ private:
+  FeatureSet set_;
+  FeatureNormalization normalization_;
+  LinearFeatureTransform transform_;
+  Eigen::MatrixXd projected_;
+  std::vector<std::pair<std::int64_t, int>> ids_;  // subject, frame
+};
+
+std::string transformSuffix(const TransformOptions& transform) {
+  switch (transform.kind) {
+    case FeatureTransform::kPca:
+      return " PCA";
+    case FeatureTransform::kLda:
+      return " LDA";
+    default:
+      return "";
+  }
+}
+
+}  // namespace
+
+FittedWalks fitWalks(const PersonSource& people, int trials, const ScanOptions& options,
+                     FitSummary* summary) {
+  struct Job {
+    int person, trial, pose;
+  };
+  std::vector<Job> jobs;
+  for (int person = 0; person < static_cast<int>(people.names.size()); ++person)
+    for (int trial = 0; trial < trials; ++trial)
+      for (int pose = 1; pose <= 4; ++pose) jobs.push_back({person, trial, pose});
+
+  const FitCache cache(options.cache_folder);
+  const std::string scanner = scannerSettings(options);
+  std::vector<std::optional<CachedFit>> fits(jobs.size());
+  std::vector<std::string> errors(jobs.size());
+  std::vector<char> from_cache(jobs.size(), 0);
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> done{0};
+  std::mutex output;
+  std::string write_error;
+  const auto start = Clock::now();
+  auto work = [&] {
+    for (std::size_t j = next++; j < jobs.size(); j = next++) {
+      const Job& job = jobs[j];
+      // Heading within +-46 deg of the rig's front, varied per case as the scanner sees people;
+      // from (person, trial, pose) alone, so runs with other counts share the cache.
+      const int heading_case = 4 * job.person + (job.pose - 1) + 2 * job.trial;
+      const body_scan::sim::HumanBodySpec spec = people.spec(
+          job.person, job.pose, job.trial, body_gait::eval::fullScannerHeading(heading_case));
+      const std::string key = scanKey(spec, scanner);
+      const auto job_start = Clock::now();
+      if ((fits[j] = cache.load(key))) {
+        from_cache[j] = 1;
+      } else {
+        try {
+          fits[j] = scanAndFit(spec, options);
+          cache.store(key, *fits[j]);
+        } catch (const body_scan::FileWriteError& e) {
+          std::lock_guard<std::mutex> lock(output);
+          write_error = e.what();
+        } catch (const std::exception& e) {
+          errors[j] = e.what();  // the fitter refused the cloud: a failed pose
+        }
+      }
+      const int finished = ++done;
+      if (options.progress) {
+        const double seconds = std::chrono::duration<double>(Clock::now() - job_start).count();
+        std::string status = "FAILED: " + errors[j];
+        if (from_cache[j])
+          status = "cached";
+        else if (fits[j])
+          status = std::to_string(fits[j]->points) + " points, " +
+                   std::to_string(static_cast<int>(1000 * seconds)) + " ms" +
+                   (fits[j]->low_quality ? ", low quality" : "");
+        std::lock_guard<std::mutex> lock(output);
+        std::fprintf(stderr, "[%d/%zu] %s walk %d pose %d: %s\n", finished, jobs.size(),
+                     people.names[job.person].c_str(), job.trial, job.pose, status.c_str());
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 1; t < std::max(1, options.threads); ++t) threads.emplace_back(work);
+  work();
+  for (std::thread& thread : threads) thread.join();
+  if (!write_error.empty()) throw std::runtime_error(write_error);
+
+  FittedWalks walks(people.names.size(),
+                    std::vector<std::optional<body_gait::RepresentativePoses>>(trials));
+  std::vector<std::vector<int>> missing(people.names.size(), std::vector<int>(trials, 0));
+  FitSummary local;
+  for (std::size_t j = 0; j < jobs.size(); ++j) {
+    const Job& job = jobs[j];
+    ++local.scans;
+    local.cached += from_cache[j];
+    if (!fits[j]) {
+      ++local.failed;
+      ++missing[job.person][job.trial];
+      local.failures.push_back(people.names[job.person] + " walk " + std::to_string(job.trial) +
+                               " pose " + std::to_string(job.pose) + ": " + errors[j]);
+      continue;
+    }
+    local.low_quality += fits[j]->low_quality;
+    if (!walks[job.person][job.trial]) walks[job.person][job.trial].emplace();
+    (*walks[job.person][job.trial])[job.pose - 1] = fits[j]->model;
+  }
+  for (std::size_t person = 0; person < walks.size(); ++person)
+    for (int trial = 0; trial < trials; ++trial)
+      if (missing[person][trial] > 0) walks[person][trial].reset();
+  local.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (summary) *summary = local;
+  return walks;
+}
+
+std::vector<FeatureRow> thesisRows() {
+  return {
+      {"3D dynamic", View::k3D, FeatureSet::kDynamic, ThesisFigures{98.96, 0.41}},
+      {"3D dynamic+static", View::k3D, FeatureSet::kDynamicStatic, ThesisFigures{100.0, 1.31}},
+      {"frontal dynamic", View::kFrontal, FeatureSet::kDynamic, ThesisFigures{93.75, 1.42}},
+      {"frontal dynamic+static", View::kFrontal, FeatureSet::kDynamicStatic,
+       ThesisFigures{100.0, 1.49}},
+      {"side dynamic", View::kSide, FeatureSet::kDynamic, ThesisFigures{95.83, 0.57}},
+      {"side dynamic+static", View::kSide, FeatureSet::kDynamicStatic, ThesisFigures{100.0, 1.29}},
+  };
+}
+
+ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row, int gallery_trial,
+                        int probe_trial, int enrolled, ProbeFrames frames,
+                        const TransformOptions& transform) {
+  ProbeSet result;
+  std::vector<GalleryPose> gallery;
+  std::vector<char> in_gallery(walks.size(), 0);
+  for (int person = 0; person < std::min<int>(enrolled, walks.size()); ++person) {
+    const std::optional<WalkCycles> cycles = cyclesOf(walks[person].at(gallery_trial));
+    if (!cycles) {
+      ++result.dropped_people;
+      continue;
+    }
+    in_gallery[person] = 1;
+    int sequence = 0;
+    for (const body_gait::GaitCycle* cycle : {&cycles->eta1, &cycles->eta2}) {
+      for (int f = 0; f < static_cast<int>(cycle->frames.size()); ++f)
+        gallery.push_back(
+            {subjectId(person), sequence, f + 1, gaitFeatures(cycle->frames[f], row.view)});
+      ++sequence;
+    }
+  }
+  if (gallery.empty())
+    throw std::runtime_error("no gallery: no enrolled person's walk " +
+                             std::to_string(gallery_trial) + " could be fitted");
+
+  std::optional<Matcher> matcher;
+  std::optional<ProjectedRanker> ranker;
+  if (transform.kind == FeatureTransform::kNone)
+    matcher.emplace(gallery, row.set);
+  else
+    ranker.emplace(gallery, row.set, transform);
+
+  for (int person = 0; person < static_cast<int>(walks.size()); ++person) {
+    const bool enrolled_person = person < enrolled;
+    if (enrolled_person && !in_gallery[person]) continue;  // dropped above
+    const std::optional<WalkCycles> cycles = cyclesOf(walks[person].at(probe_trial));
+    if (!cycles) {
+      if (!enrolled_person) ++result.dropped_people;
+      continue;
+    }
+    for (int f = 0; f < static_cast<int>(cycles->eta3.frames.size()); ++f) {
+      const bool representative = std::find(body_gait::kRepresentativeFrames.begin(),
+                                            body_gait::kRepresentativeFrames.end(),
+                                            f + 1) != body_gait::kRepresentativeFrames.end();
+      if (representative && frames == ProbeFrames::kInterpolated) continue;
+      ProbeResult probe;
+      probe.true_subject = subjectId(person);
+      probe.true_frame = f + 1;
+      probe.enrolled = enrolled_person;
+      const GaitFeatures features = gaitFeatures(cycles->eta3.frames[f], row.view);
+      if (matcher) {
+        for (const Match& m : matcher->rankSubjects(features))
+          probe.candidates.push_back({m.subject_id, m.frame, m.score});
+      } else {
+        probe.candidates = ranker->rank(features);
+      }
+      result.probes.push_back(std::move(probe));
+    }
+  }
+  return result;
+}
+
+std::vector<NamedMetrics> thesisProtocol(const FittedWalks& walks,
+                                         const std::vector<FeatureRow>& rows,
+                                         const TransformOptions& transform, ProbeFrames frames) {
+  std::vector<NamedMetrics> results;
+  for (const FeatureRow& row : rows) {
+    const ProbeSet set =
+        identifyProbes(walks, row, 0, 0, static_cast<int>(walks.size()), frames, transform);
+    results.push_back(
+        {row.name + transformSuffix(transform), evaluateRecognition(set.probes), row.thesis});
+  }
+  return results;
+}
+
+std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
+                                            const std::vector<FeatureRow>& rows,
+                                            const TransformOptions& transform, bool per_walk) {
+  std::vector<NamedMetrics> results;
+  const int people = static_cast<int>(walks.size());
+  auto decided = [per_walk](const ProbeSet& set) {
+    return evaluateRecognition(per_walk ? perWalkProbes(set.probes) : set.probes);
+  };
+  for (const FeatureRow& row : rows) {
+    const ProbeSet closed = identifyProbes(walks, row, 0, 1, people, ProbeFrames::kAll, transform);
+    RecognitionMetrics metrics = decided(closed);
+    if (people >= 2) {
+      const ProbeSet open =
+          identifyProbes(walks, row, 0, 1, people / 2, ProbeFrames::kAll, transform);
+      metrics.open_set = decided(open).open_set;
+    }
+    results.push_back({row.name + transformSuffix(transform) + (per_walk ? " per walk" : ""),
+                       metrics, std::nullopt});
+  }
+  return results;
+}
+
+}  // namespace body_gait_id::eval

@@ -1,0 +1,205 @@
+// gait_id_node: the ROS face of the gait gallery (thesis 5.7-5.8). Thin: the work is
+// body_gait_id's core (GalleryDatabase, trainingPoses, Matcher).
+//
+//   services  ~enroll (EnrollSubject), ~identify (Identify), ~remove (RemoveSubject),
+//             ~list (ListSubjects)
+//   topics    /body_gait/model (BodyModel) in -> /body_gait/identity (Identity) out
+//   params    ~database (default $ROS_HOME/gait_gallery.db), ~feature_set (dynamic_static |
+//             dynamic), ~view (3d | frontal | side), ~accept_threshold (score, eq 5.16, at or
+//             below which a match is accepted; calibrate it with the open-set evaluation),
+//             ~busy_timeout (s, waiting for another writer)
+//
+// A database that cannot be opened (corrupt, locked, newer schema) is reported once at start
+// and in every service reply; the node keeps running and tries the file again on the next
+// call, so fixing or replacing the file needs no restart.
+#include <body_gait_id/enrollment.h>
+#include <body_gait_id/gallery_database.h>
+#include <body_gait_model/ros/body_model_msg.h>
+#include <body_scan_msgs/EnrollSubject.h>
+#include <body_scan_msgs/Identify.h>
+#include <body_scan_msgs/Identity.h>
+#include <body_scan_msgs/ListSubjects.h>
+#include <body_scan_msgs/RemoveSubject.h>
+#include <ros/ros.h>
+
+#include <map>
+#include <memory>
+#include <optional>
+
+namespace body_gait_id {
+
+class GaitIdNode {
+ public:
+  GaitIdNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
+    path_ = pnh.param<std::string>("database", defaultGalleryPath());
+    busy_timeout_ =
+        std::chrono::milliseconds(static_cast<int>(1000 * pnh.param<double>("busy_timeout", 2.0)));
+    accept_threshold_ = pnh.param<double>("accept_threshold", 3.0);
+    try {
+      set_ = parseFeatureSet(pnh.param<std::string>("feature_set", "dynamic_static"));
+      view_ = parseView(pnh.param<std::string>("view", "3d"));
+    } catch (const std::invalid_argument& e) {
+      ROS_ERROR("%s; using dynamic_static features in 3D", e.what());
+    }
+    try {
+      database();
+      ROS_INFO("gait gallery '%s': %zu subjects; %s features, %s view, accept score <= %.2f",
+               path_.c_str(), database().subjects().size(), featureSetName(set_), viewName(view_),
+               accept_threshold_);
+    } catch (const std::exception& e) {
+      ROS_ERROR("%s", e.what());
+    }
+    enroll_ = pnh.advertiseService("enroll", &GaitIdNode::onEnroll, this);
+    identify_ = pnh.advertiseService("identify", &GaitIdNode::onIdentify, this);
+    remove_ = pnh.advertiseService("remove", &GaitIdNode::onRemove, this);
+    list_ = pnh.advertiseService("list", &GaitIdNode::onList, this);
+    identity_pub_ = nh.advertise<body_scan_msgs::Identity>("body_gait/identity", 4);
+    model_sub_ = nh.subscribe("body_gait/model", 4, &GaitIdNode::onModel, this);
+  }
+
+ private:
+  // The open gallery, opened (again) on demand. Throws GalleryError.
+  GalleryDatabase& database() {
+    if (!db_) db_ = std::make_unique<GalleryDatabase>(path_, busy_timeout_);
+    return *db_;
+  }
+  // Forget the connection after a failure so the next call reopens the file.
+  void reset(const std::exception& e) {
+    ROS_ERROR_THROTTLE(5.0, "%s", e.what());
+    db_.reset();
+    matcher_.reset();
+  }
+
+  struct Answer {
+    Match match;
+    std::string name;
+  };
+  Answer identify(const body_scan_msgs::BodyModel& model) {
+    if (!matcher_) {
+      // Rebuilt after every enrolment or removal (the gallery and its statistics changed).
+      matcher_.emplace(database().matcher(set_, view_));
+      names_.clear();
+      for (const Subject& s : database().subjects()) names_[s.id] = s.info.name;
+    }
+    const Match match = matcher_->identify(gaitFeatures(body_gait::fromMsg(model), view_));
+    return {match, names_[match.subject_id]};
+  }
+
+  bool onEnroll(body_scan_msgs::EnrollSubject::Request& req,
+                body_scan_msgs::EnrollSubject::Response& res) {
+    try {
+      std::vector<body_gait::BodyModel> models;
+      for (const auto& pose : req.poses) models.push_back(body_gait::fromMsg(pose));
+      const std::vector<PoseRecord> poses = trainingPoses(representativePoses(models));
+      res.subject_id = database().enroll({req.name, req.gender, req.age}, req.scan_paths, poses);
+      res.pose_count = static_cast<int>(poses.size());
+      res.success = true;
+      matcher_.reset();
+      ROS_INFO("enrolled '%s' as subject %ld (%d poses)", req.name.c_str(),
+               static_cast<long>(res.subject_id), res.pose_count);
+    } catch (const GalleryError& e) {
+      res.message = e.what();
+      reset(e);
+    } catch (const std::exception& e) {  // bad request: the gallery is fine
+      res.message = std::string("enrolment refused: ") + e.what();
+      ROS_ERROR("%s", res.message.c_str());
+    }
+    return true;
+  }
+
+  bool onIdentify(body_scan_msgs::Identify::Request& req, body_scan_msgs::Identify::Response& res) {
+    try {
+      const Answer answer = identify(req.model);
+      res.subject_id = answer.match.subject_id;
+      res.name = answer.name;
+      res.sequence = answer.match.sequence;
+      res.frame = answer.match.frame;
+      res.score = answer.match.score;
+      res.accepted = answer.match.score <= accept_threshold_;
+      res.success = true;
+    } catch (const GalleryError& e) {
+      res.message = e.what();
+      reset(e);
+    } catch (const std::exception& e) {
+      res.message = std::string("identification refused: ") + e.what();
+      ROS_ERROR("%s", res.message.c_str());
+    }
+    return true;
+  }
+
+  bool onRemove(body_scan_msgs::RemoveSubject::Request& req,
+                body_scan_msgs::RemoveSubject::Response& res) {
+    try {
+      res.success = database().remove(req.subject_id);
+      matcher_.reset();
+      if (!res.success)
+        res.message = "no subject " + std::to_string(req.subject_id) + " in gallery '" + path_ +
+                      "': see ~list for the enrolled ids";
+    } catch (const GalleryError& e) {
+      res.message = e.what();
+      reset(e);
+    }
+    return true;
+  }
+
+  bool onList(body_scan_msgs::ListSubjects::Request&, body_scan_msgs::ListSubjects::Response& res) {
+    try {
+      for (const Subject& s : database().subjects()) {
+        res.subject_ids.push_back(s.id);
+        res.names.push_back(s.info.name);
+        res.genders.push_back(s.info.gender);
+        res.ages.push_back(s.info.age);
+        res.pose_counts.push_back(s.pose_count);
+      }
+      res.success = true;
+    } catch (const GalleryError& e) {
+      res.message = e.what();
+      reset(e);
+    }
+    return true;
+  }
+
+  void onModel(const body_scan_msgs::BodyModel::ConstPtr& msg) {
+    try {
+      const Answer answer = identify(*msg);
+      body_scan_msgs::Identity identity;
+      identity.header = msg->header;
+      identity.subject_id = answer.match.subject_id;
+      identity.name = answer.name;
+      identity.sequence = answer.match.sequence;
+      identity.frame = answer.match.frame;
+      identity.score = answer.match.score;
+      identity.accepted = answer.match.score <= accept_threshold_;
+      identity_pub_.publish(identity);
+      ROS_INFO("identified: subject %ld '%s', sequence %d, frame %d, score %.3f (%s)",
+               static_cast<long>(identity.subject_id), identity.name.c_str(), identity.sequence,
+               identity.frame, identity.score, identity.accepted ? "accepted" : "rejected");
+    } catch (const GalleryError& e) {
+      reset(e);
+    } catch (const std::exception& e) {
+      ROS_ERROR_THROTTLE(5.0, "model on body_gait/model not identified: %s", e.what());
+    }
+  }
+
+  std::string path_;
+  std::chrono::milliseconds busy_timeout_{2000};
+  double accept_threshold_ = 3.0;
+  FeatureSet set_ = FeatureSet::kDynamicStatic;
+  View view_ = View::k3D;
+  std::unique_ptr<GalleryDatabase> db_;
+  std::optional<Matcher> matcher_;
+  std::map<std::int64_t, std::string> names_;
+  ros::ServiceServer enroll_, identify_, remove_, list_;
+  ros::Publisher identity_pub_;
+  ros::Subscriber model_sub_;
+};
+
+}  // namespace body_gait_id
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "gait_id");
+  ros::NodeHandle nh, pnh("~");
+  body_gait_id::GaitIdNode node(nh, pnh);
+  ros::spin();
+  return 0;
+}

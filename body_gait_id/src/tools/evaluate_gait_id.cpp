@@ -1,0 +1,217 @@
+// Evaluation CLI of gait recognition (issue 6 item 5; thesis 5.8.3-5.8.4): simulated people
+// walk through the scanner, every representative pose is scanned and fitted, gait cycles are
+// reconstructed and identified; prints a table beside the thesis's figures and writes a YAML
+// report and a CMC / ROC plot.
+//
+//   evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N] [--scanner sampler|full|truth]
+//                    [--columns C] [--noise SIGMA_M] [--threads T] [--cache DIR] [--seed S]
+//                    [--transform none|pca|lda] [--components K] [--rows all|3d]
+//                    [--probe-frames interpolated|all] [--per-walk 1]
+//                    [--report FILE.yaml] [--plot FILE.png] [--quiet 1]
+//
+// --scanner truth skips scan and fit (models read off the simulator's skeleton): the upper
+// bound of the features on these people, to tell the fitter's share of the errors.
+// --per-walk 1 (cross-walk) adds the 3D rows with one decision per probe walk (the mean of a
+// subject's scores over the walk's 20 frames) beside the per-frame decisions.
+// Thesis protocol: the probes are eta3's 16 interpolated frames per person as in the thesis
+// (96 poses of 6 subjects); --probe-frames all adds the 4 representative frames, which are in
+// the training sets too. Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
+#include <body_gait_id/eval/gait_id_evaluation.h>
+#include <body_gait_model/eval/gait_subjects.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace {
+
+using namespace body_gait_id::eval;
+
+[[noreturn]] void usage(const std::string& problem) {
+  std::fprintf(
+      stderr,
+      "evaluate_gait_id: %s\n"
+      "usage: evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N (>= 2; "
+      "default 6, cross-walk 50)] [--scanner sampler|full|truth] [--columns C (>= 20)] "
+      "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
+      "[--transform none|pca|lda] [--components K] [--rows all|3d] "
+      "[--probe-frames interpolated|all] [--per-walk 1] [--report FILE.yaml] [--plot FILE.png] "
+      "[--quiet 1]\n",
+      problem.c_str());
+  std::exit(2);
+}
+
+double number(const char* text, const std::string& flag) {
+  char* end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (end == text || *end != '\0') usage(flag + " needs a number, got '" + text + "'");
+  return value;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string protocol = "thesis", report_path, plot_path, rows_choice = "all";
+  int subjects = 0;
+  std::uint32_t seed = 1;
+  ScanOptions scan;
+  TransformOptions transform;
+  ProbeFrames probe_frames = ProbeFrames::kInterpolated;
+  bool per_walk = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string flag = argv[i];
+    if (flag == "--help" || flag == "-h") usage("evaluates gait identification");
+    if (i + 1 >= argc) usage("missing value after " + flag);
+    const char* value = argv[++i];
+    if (flag == "--protocol") {
+      protocol = value;
+      if (protocol != "thesis" && protocol != "cross-walk")
+        usage("--protocol must be thesis or cross-walk, got '" + protocol + "'");
+    } else if (flag == "--subjects") {
+      subjects = static_cast<int>(number(value, flag));
+    } else if (flag == "--scanner") {
+      const std::string kind = value;
+      if (kind == "full")
+        scan.scanner = ScannerKind::kFull;
+      else if (kind == "sampler")
+        scan.scanner = ScannerKind::kSampler;
+      else if (kind == "truth")
+        scan.scanner = ScannerKind::kTruth;
+      else
+        usage("--scanner must be sampler, full or truth, got '" + kind + "'");
+    } else if (flag == "--columns") {
+      scan.sampler_columns = static_cast<int>(number(value, flag));
+    } else if (flag == "--noise") {
+      scan.sampler_noise = number(value, flag);
+    } else if (flag == "--threads") {
+      scan.threads = static_cast<int>(number(value, flag));
+    } else if (flag == "--cache") {
+      scan.cache_folder = value;
+    } else if (flag == "--seed") {
+      seed = static_cast<std::uint32_t>(number(value, flag));
+    } else if (flag == "--transform") {
+      const std::string kind = value;
+      if (kind == "none")
+        transform.kind = FeatureTransform::kNone;
+      else if (kind == "pca")
+        transform.kind = FeatureTransform::kPca;
+      else if (kind == "lda")
+        transform.kind = FeatureTransform::kLda;
+      else
+        usage("--transform must be none, pca or lda, got '" + kind + "'");
+    } else if (flag == "--components") {
+      transform.components = static_cast<int>(number(value, flag));
+    } else if (flag == "--rows") {
+      rows_choice = value;
+      if (rows_choice != "all" && rows_choice != "3d")
+        usage("--rows must be all or 3d, got '" + rows_choice + "'");
+    } else if (flag == "--probe-frames") {
+      const std::string kind = value;
+      if (kind == "interpolated")
+        probe_frames = ProbeFrames::kInterpolated;
+      else if (kind == "all")
+        probe_frames = ProbeFrames::kAll;
+      else
+        usage("--probe-frames must be interpolated or all, got '" + kind + "'");
+    } else if (flag == "--report") {
+      report_path = value;
+    } else if (flag == "--plot") {
+      plot_path = value;
+    } else if (flag == "--per-walk") {
+      per_walk = number(value, flag) != 0;
+    } else if (flag == "--quiet") {
+      scan.progress = number(value, flag) == 0;
+    } else {
+      usage("unknown option " + flag);
+    }
+  }
+  const bool cross_walk = protocol == "cross-walk";
+  if (subjects == 0) subjects = cross_walk ? 50 : 6;
+  if (subjects < 2) usage("--subjects must be >= 2 (identification needs a choice)");
+  if (scan.sampler_columns < 20) usage("--columns must be >= 20");
+  if (scan.threads < 1 || scan.threads > 16) usage("--threads must be 1..16");
+
+  const std::vector<body_gait::eval::SimulatedPerson> persons =
+      body_gait::eval::simulatedPeople(subjects, seed);
+  PersonSource people;
+  for (const auto& person : persons) people.names.push_back(person.name);
+  people.spec = [&persons](int person, int pose, int trial, double heading) {
+    return body_gait::eval::walkingSubject(persons[person], pose, trial, heading);
+  };
+
+  std::vector<FeatureRow> rows = thesisRows();
+  if (rows_choice == "3d") rows.resize(2);
+  FitSummary summary;
+  std::vector<NamedMetrics> results;
+  try {
+    const FittedWalks walks = fitWalks(people, cross_walk ? 2 : 1, scan, &summary);
+    results =
+        cross_walk ? crossWalkProtocol(walks, rows) : thesisProtocol(walks, rows, {}, probe_frames);
+    const std::vector<FeatureRow> rows_3d(rows.begin(), rows.begin() + 2);
+    auto add = [&results](std::vector<NamedMetrics> extra) {
+      for (NamedMetrics& r : extra) results.push_back(std::move(r));
+    };
+    if (transform.kind != FeatureTransform::kNone)
+      add(cross_walk ? crossWalkProtocol(walks, rows_3d, transform)
+                     : thesisProtocol(walks, rows_3d, transform, probe_frames));
+    if (per_walk && cross_walk) {
+      add(crossWalkProtocol(walks, rows_3d, {}, true));
+      if (transform.kind != FeatureTransform::kNone)
+        add(crossWalkProtocol(walks, rows_3d, transform, true));
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "evaluate_gait_id: %s\n", e.what());
+    return 1;
+  }
+
+  const char* scanner_name = scan.scanner == ScannerKind::kFull      ? "full"
+                             : scan.scanner == ScannerKind::kSampler ? "sampler"
+                                                                     : "truth (no scan, no fit)";
+  std::printf(
+      "%s protocol, %d people, %s scanner: %d scans (%d cached, %d failed, %d low quality) "
+      "in %.1f s\n",
+      protocol.c_str(), subjects, scanner_name, summary.scans, summary.cached, summary.failed,
+      summary.low_quality, summary.seconds);
+  for (const std::string& failure : summary.failures)
+    std::printf("  failed: %s\n", failure.c_str());
+  std::printf("%s", recognitionTable(results).c_str());
+  for (const NamedMetrics& r : results) {
+    const RecognitionMetrics& m = r.metrics;
+    std::printf("%-32s CMC", r.name.c_str());
+    for (const Proportion& p : m.cmc) std::printf(" %.2f", 100 * p.rate);
+    if (m.open_set)
+      std::printf(" | open set: threshold %.3f, FNIR %.2f %%%s, FPIR %.2f %% [%.2f, %.2f] (n %d)",
+                  m.open_set->threshold, 100 * m.open_set->fnir.rate,
+                  m.open_set->target_reached ? "" : " (5 % not reachable)",
+                  100 * m.open_set->fpir.rate, 100 * m.open_set->fpir.ci_low,
+                  100 * m.open_set->fpir.ci_high, m.open_set->fpir.n);
+    std::printf("\n");
+  }
+
+  RecognitionReport report;
+  report.settings = {{"protocol", protocol},
+                     {"subjects", std::to_string(subjects)},
+                     {"scanner", scanner_name},
+                     {"seed", std::to_string(seed)},
+                     {"probe_frames", cross_walk                          ? "all (walk 1)"
+                                      : probe_frames == ProbeFrames::kAll ? "all"
+                                                                          : "interpolated"},
+                     {"scans", std::to_string(summary.scans)},
+                     {"cached_scans", std::to_string(summary.cached)},
+                     {"failed_scans", std::to_string(summary.failed)},
+                     {"low_quality_fits", std::to_string(summary.low_quality)},
+                     {"scan_and_fit_seconds", std::to_string(summary.seconds)}};
+  if (scan.scanner == ScannerKind::kSampler) {
+    report.settings.push_back({"sampler_columns", std::to_string(scan.sampler_columns)});
+    report.settings.push_back({"sampler_noise_m", std::to_string(scan.sampler_noise)});
+  }
+  report.results = results;
+  try {
+    if (!report_path.empty()) writeRecognitionReport(report_path, report);
+    if (!plot_path.empty()) writePng(plot_path, plotPanels(cmcAndRocPanels(results)));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "evaluate_gait_id: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,121 @@
+// gait_gallery CLI end to end on a temporary gallery: enrol two simulated people from YAML
+// files of their 4 representative poses, list, identify (their own poses: frames 1, 6, 11, 16
+// with score 0), export CSV, remove; usage and database errors exit non-zero with a message.
+#include <body_gait_id/models_file.h>
+#include <body_gait_model/eval/gait_subjects.h>
+#include <body_gait_model/eval/skeleton_model.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace body_gait_id {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int status;
+  std::string output;  // stdout and stderr
+};
+
+class GaitGalleryCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("test_gait_gallery_cli_" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+    database_ = (dir_ / "gallery.db").string();
+    const auto people = body_gait::eval::simulatedPeople(2, 3);
+    for (int person = 0; person < 2; ++person) {
+      std::vector<body_gait::BodyModel> models;
+      for (int index = 1; index <= 4; ++index)
+        models.push_back(body_gait::eval::modelFromSkeleton(
+            body_gait::eval::walkingSubject(people[person], index, 0)));
+      std::ofstream out(models_file(person));
+      writeBodyModels(out, models);
+    }
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string models_file(int person) const {
+    return (dir_ / ("walk_" + std::to_string(person) + ".yaml")).string();
+  }
+  CliRun run(const std::string& arguments, const std::string& database = "") const {
+    const std::string command = std::string(GAIT_GALLERY) + " --database " +
+                                (database.empty() ? database_ : database) + " " + arguments +
+                                " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    CliRun result{-1, ""};
+    char buffer[4096];
+    for (std::size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;)
+      result.output.append(buffer, n);
+    const int status = pclose(pipe);
+    result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return result;
+  }
+  fs::path dir_;
+  std::string database_;
+};
+
+TEST_F(GaitGalleryCli, EnrolListIdentifyExportRemove) {
+  CliRun r = run("enroll --name Ada --gender female --age 36 --models " + models_file(0) +
+                 " --scan /scans/ada.bag");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("enrolled 'Ada' as subject 1 (40 poses)"), std::string::npos) << r.output;
+  r = run("enroll --name Ben --models " + models_file(1));
+  ASSERT_EQ(r.status, 0) << r.output;
+
+  r = run("list");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("2 subjects"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Ada"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("/scans/ada.bag"), std::string::npos) << r.output;
+
+  r = run("identify --models " + models_file(1));
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* line : {"pose 1: subject 2 'Ben', sequence 0, frame 1, score 0.000",
+                           "pose 2: subject 2 'Ben', sequence 1, frame 6, score 0.000",
+                           "pose 3: subject 2 'Ben', sequence 0, frame 11, score 0.000",
+                           "pose 4: subject 2 'Ben', sequence 1, frame 16, score 0.000"})
+    EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
+
+  const std::string csv = (dir_ / "gallery.csv").string();
+  r = run("export --format csv --output " + csv);
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream in(csv);
+  int lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  EXPECT_EQ(lines, 1 + 80);
+
+  EXPECT_EQ(run("remove 1").status, 0);
+  r = run("remove 1");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("no subject 1"), std::string::npos) << r.output;
+  r = run("list");
+  EXPECT_NE(r.output.find("1 subjects"), std::string::npos) << r.output;
+}
+
+TEST_F(GaitGalleryCli, MistakesExitNonZeroWithTheFix) {
+  CliRun r = run("");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("usage: gait_gallery"), std::string::npos) << r.output;
+  r = run("enroll --name Ada");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("enroll needs --models"), std::string::npos) << r.output;
+  r = run("frobnicate");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("unknown command 'frobnicate'"), std::string::npos) << r.output;
+  const std::string corrupt = (dir_ / "corrupt.db").string();
+  std::ofstream(corrupt) << std::string(4096, 'x');
+  r = run("list", corrupt);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("file is not a database"), std::string::npos) << r.output;
+  r = run("identify --models " + models_file(0));  // an empty gallery
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("enrol at least one subject"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace body_gait_id

@@ -1,0 +1,139 @@
+// Plays a reconstructed gait cycle (thesis 5.6, 5.8.2) so rviz animates it. Fits nothing: the 4
+// representative poses come from a YAML file (gait_poses_file.h) or from a simulated walking
+// person read off the simulator's skeleton (modelFromSkeleton; evaluation library).
+//
+// Parameters: ~poses_file (YAML s1..s4; empty = simulate), ~person (index into
+// simulatedPeople), ~seed, ~trial, ~heading (rad) for the simulated walk; ~gait_set (eta1,
+// eta2, eta3 = the poses as given; 5.8.3); ~frame_rate (Hz); ~cycles (cycles walked on before
+// playing from the start again); ~save_poses_file (write the 4 poses used, e.g. to edit them);
+// ~world_frame, ~link_prefix (as the body fitter); ~filmstrip_spacing (m between the frames of
+// the filmstrip; 0 = none), ~filmstrip_left (m to the walker's left).
+// Out: body_gait/gait_sequence (GaitSequence, latched, once), body_gait/gait_sequence_markers
+// (all 20 frames in a row, like thesis Fig 5.6; latched), body_gait/model (BodyModel) and
+// body_gait/markers per frame, body_gait/joint_states, TF world -> <link_prefix>*, and the URDF
+// on robot_description (the RobotModel display of body_model.rviz).
+#include <body_gait_model/eval/gait_subjects.h>
+#include <body_gait_model/eval/skeleton_model.h>
+#include <body_gait_model/gait_cycle.h>
+#include <body_gait_model/gait_poses_file.h>
+#include <body_gait_model/ros/body_model_msg.h>
+#include <body_gait_model/ros/gait_sequence_msg.h>
+#include <body_gait_model/urdf.h>
+#include <ros/ros.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <map>
+#include <stdexcept>
+#include <string>
+
+namespace {
+
+using body_gait::RepresentativePoses;
+
+body_gait::GaitSet gaitSetNamed(const std::string& name) {
+  const std::map<std::string, body_gait::GaitSet> sets = {{"eta1", body_gait::GaitSet::kEta1},
+                                                          {"eta2", body_gait::GaitSet::kEta2},
+                                                          {"eta3", body_gait::GaitSet::kEta3}};
+  const auto found = sets.find(name);
+  if (found == sets.end())
+    throw std::invalid_argument("~gait_set '" + name +
+                                "' is unknown; use eta1 {s1,sb2,s3,sb4}, eta2 {sb1,s2,sb3,s4} "
+                                "or eta3 {s1,s2,s3,s4} (thesis 5.8.3)");
+  return found->second;
+}
+
+// The 4 poses of walk `trial` of simulated person `person`, straight from the true skeleton.
+RepresentativePoses simulatedWalk(int person, std::uint32_t seed, int trial, double heading,
+                                  std::string& name) {
+  if (person < 0 || person > 9999)
+    throw std::invalid_argument("~person must be 0..9999, got " + std::to_string(person));
+  const auto people = body_gait::eval::simulatedPeople(person + 1, seed);
+  name = people[person].name;
+  RepresentativePoses poses;
+  for (int index = 1; index <= 4; ++index)
+    poses[index - 1] = body_gait::eval::modelFromSkeleton(
+        body_gait::eval::walkingSubject(people[person], index, trial, heading));
+  return poses;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "play_gait_cycle");
+  ros::NodeHandle nh, pnh("~");
+  const std::string poses_file = pnh.param<std::string>("poses_file", "");
+  const std::string save_file = pnh.param<std::string>("save_poses_file", "");
+  const std::string world_frame = pnh.param<std::string>("world_frame", "world");
+  const std::string link_prefix = pnh.param<std::string>("link_prefix", "body_gait/");
+  const double frame_rate = pnh.param("frame_rate", 10.0);
+  const int cycles = pnh.param("cycles", 3);
+  const double filmstrip_spacing = pnh.param("filmstrip_spacing", 0.45);
+  const double filmstrip_left = pnh.param("filmstrip_left", 1.2);
+  if (!(frame_rate > 0) || cycles < 1) {
+    ROS_ERROR("~frame_rate must be > 0 Hz and ~cycles >= 1 (got %g, %d)", frame_rate, cycles);
+    return 1;
+  }
+
+  body_gait::GaitCycle cycle;
+  std::string subject;
+  try {
+    RepresentativePoses poses;
+    if (!poses_file.empty()) {
+      poses = body_gait::loadRepresentativePoses(poses_file);
+      subject = pnh.param<std::string>("subject", "");
+    } else {
+      poses = simulatedWalk(pnh.param("person", 0), pnh.param("seed", 1), pnh.param("trial", 0),
+                            pnh.param("heading", 0.0), subject);
+    }
+    if (!save_file.empty()) {
+      body_gait::saveRepresentativePoses(save_file, poses);
+      ROS_INFO("wrote the 4 poses to %s", save_file.c_str());
+    }
+    poses = body_gait::gaitSet(poses, gaitSetNamed(pnh.param<std::string>("gait_set", "eta3")));
+    cycle = body_gait::reconstructGaitCycle(poses);
+  } catch (const std::exception& e) {
+    ROS_ERROR("no gait cycle to play: %s", e.what());
+    return 1;
+  }
+
+  ros::Publisher sequence_pub =
+      nh.advertise<body_scan_msgs::GaitSequence>("body_gait/gait_sequence", 1, true);
+  ros::Publisher filmstrip_pub =
+      nh.advertise<visualization_msgs::MarkerArray>("body_gait/gait_sequence_markers", 1, true);
+  ros::Publisher model_pub = nh.advertise<body_scan_msgs::BodyModel>("body_gait/model", 2, true);
+  ros::Publisher marker_pub =
+      nh.advertise<visualization_msgs::MarkerArray>("body_gait/markers", 2, true);
+  ros::Publisher joint_pub = nh.advertise<sensor_msgs::JointState>("body_gait/joint_states", 2);
+  tf2_ros::TransformBroadcaster tf;
+  std_msgs::Header header;
+  header.frame_id = world_frame;
+  header.stamp = ros::Time::now();
+  sequence_pub.publish(body_gait::toMsg(cycle, header, subject));
+  if (filmstrip_spacing > 0) {
+    // To the walker's left: up x direction.
+    const Eigen::Vector3d left = Eigen::Vector3d::UnitZ().cross(cycle.velocity.normalized());
+    filmstrip_pub.publish(
+        body_gait::gaitSequenceMarkers(cycle, header, filmstrip_spacing, filmstrip_left * left));
+  }
+  // r and the shape are the same in every frame (eq 5.13): one URDF for the whole cycle.
+  nh.setParam("robot_description", body_gait::modelUrdf(cycle.frames[0], "body_gait", link_prefix));
+  ROS_INFO("gait cycle of %s: stride %.2f m, %.3f m per frame, %d frames at %.1f Hz",
+           subject.empty() ? "the given poses" : subject.c_str(), cycle.stride_length,
+           cycle.velocity.norm(), body_gait::kGaitCycleFrames, frame_rate);
+
+  ros::Rate rate(frame_rate);
+  for (long step = 0; ros::ok(); ++step) {
+    const int frame = static_cast<int>(step % body_gait::kGaitCycleFrames);  // 0-based
+    const long walked = (step / body_gait::kGaitCycleFrames) % cycles;       // cycles walked so far
+    body_gait::BodyModel model = cycle.frames[frame];
+    model.p.head<3>() += walked * body_gait::kGaitCycleFrames * cycle.velocity;
+    header.stamp = ros::Time::now();
+    model_pub.publish(body_gait::toMsg(model, header));
+    marker_pub.publish(body_gait::modelMarkers(model, false, header));
+    joint_pub.publish(body_gait::jointStates(model, header));
+    tf.sendTransform(body_gait::modelTransforms(model, header, link_prefix));
+    ros::spinOnce();
+    rate.sleep();
+  }
+  return 0;
+}
