@@ -24,13 +24,9 @@
 // the training sets too. Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
 #include <body_gait_id/eval/gait_id_evaluation.h>
 #include <body_gait_model/eval/gait_subjects.h>
-#include <body_scan_driver/sim/bvh_body.h>
 
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
-#include <map>
-#include <memory>
 #include <sstream>
 #include <string>
 
@@ -57,55 +53,6 @@ double number(const char* text, const std::string& flag) {
   const double value = std::strtod(text, &end);
   if (end == text || *end != '\0') usage(flag + " needs a number, got '" + text + "'");
   return value;
-}
-
-namespace sim = body_scan::sim;
-
-// A motion-capture walk and the frames of its 4 representative poses.
-struct BvhWalk {
-  std::shared_ptr<const sim::BvhSubject> subject;
-  sim::GaitPoseFrames poses;
-};
-
-// Walks grouped by person in order of first appearance: walks[person][trial].
-struct BvhPeople {
-  std::vector<std::string> names;
-  std::vector<std::vector<BvhWalk>> walks;
-};
-
-BvhPeople loadBvhPeople(const std::vector<std::string>& items, const std::string& map_path,
-                        int trials) {
-  const sim::BvhJointMap map = sim::loadBvhJointMap(map_path);
-  BvhPeople people;
-  std::map<std::string, size_t> index;
-  for (const std::string& item : items) {
-    const size_t equals = item.find('=');
-    const std::string file = equals == std::string::npos ? item : item.substr(equals + 1);
-    const std::string walk = std::filesystem::path(file).stem().string();
-    const std::string person =
-        equals == std::string::npos ? walk.substr(0, walk.find('_')) : item.substr(0, equals);
-    if (!index.count(person)) {
-      index[person] = people.names.size();
-      people.names.push_back(person);
-      people.walks.emplace_back();
-    }
-    BvhWalk w;
-    w.subject = std::make_shared<const sim::BvhSubject>(sim::loadBvh(file), map, walk);
-    w.poses = sim::pickGaitPoses(*w.subject);
-    std::printf("%s (person %s, walk %zu): poses 1-4 at frames %d %d %d %d (1-based)\n",
-                walk.c_str(), person.c_str(), people.walks[index[person]].size(),
-                w.poses.frame[0] + 1, w.poses.frame[1] + 1, w.poses.frame[2] + 1,
-                w.poses.frame[3] + 1);
-    people.walks[index[person]].push_back(w);
-  }
-  for (size_t i = 0; i < people.names.size(); ++i)
-    if (int(people.walks[i].size()) < trials)
-      throw std::runtime_error("person '" + people.names[i] + "' has " +
-                               std::to_string(people.walks[i].size()) +
-                               " walk(s); the protocol "
-                               "needs " +
-                               std::to_string(trials) + " (give more --bvh files)");
-  return people;
 }
 
 }  // namespace
@@ -194,16 +141,18 @@ int main(int argc, char** argv) {
   }
   const bool cross_walk = protocol == "cross-walk";
   const int trials = cross_walk ? 2 : 1;
-  BvhPeople bvh_people;
+  PersonSource people;
   if (!bvh_files.empty()) {
     if (subjects != 0) usage("--subjects and --bvh exclude each other (the files are the people)");
     try {
-      bvh_people = loadBvhPeople(bvh_files, bvh_map, trials);
+      std::vector<std::string> picked;
+      people = bvhPeople(bvh_files, bvh_map, trials, &picked);
+      for (const std::string& line : picked) std::printf("%s\n", line.c_str());
     } catch (const std::exception& e) {
       std::fprintf(stderr, "evaluate_gait_id: %s\n", e.what());
       return 1;
     }
-    subjects = int(bvh_people.names.size());
+    subjects = int(people.names.size());
   }
   if (subjects == 0) subjects = cross_walk ? 50 : 6;
   if (subjects < 2) usage("--subjects must be >= 2 (identification needs a choice)");
@@ -211,16 +160,7 @@ int main(int argc, char** argv) {
   if (scan.threads < 1 || scan.threads > 16) usage("--threads must be 1..16");
 
   std::vector<body_gait::eval::SimulatedPerson> persons;
-  PersonSource people;
-  if (!bvh_files.empty()) {
-    people.names = bvh_people.names;
-    people.spec = [&bvh_people](int person, int pose, int trial, double heading) {
-      const BvhWalk& walk = bvh_people.walks[person][trial];
-      sim::HumanBodySpec spec = walk.subject->body(walk.poses.frame[pose - 1]);
-      sim::moveBody(spec, heading, Eigen::Vector3d::Zero());
-      return spec;
-    };
-  } else {
+  if (bvh_files.empty()) {
     persons = body_gait::eval::simulatedPeople(subjects, seed);
     for (const auto& person : persons) people.names.push_back(person.name);
     people.spec = [&persons](int person, int pose, int trial, double heading) {
