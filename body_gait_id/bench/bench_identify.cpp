@@ -128,6 +128,21 @@ void indexedImpostor(benchmark::State& state) { identify<Matcher>(state, false);
 void bruteDoubleGenuine(benchmark::State& state) { identify<BruteForceMatcher>(state, true); }
 void bruteDoubleImpostor(benchmark::State& state) { identify<BruteForceMatcher>(state, false); }
 
+// Building the index (normalization fit, principal axes, k-d tree): what a node pays after
+// an enrolment, and a peer-less figure (the brute-force peer has no build).
+void buildIndex(benchmark::State& state) {
+  const int poses = static_cast<int>(state.range(0));
+  const Fixture& data = fixture(poses);
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::vector<GalleryPose> gallery = data.gallery;
+    state.ResumeTiming();
+    const Matcher matcher(std::move(gallery), FeatureSet::kDynamicStatic);
+    benchmark::DoNotOptimize(matcher.size());
+  }
+}
+BENCHMARK(buildIndex)->Arg(10'000)->Arg(1'000'000)->Unit(benchmark::kMillisecond);
+
 // Arguments: gallery poses, feature set (0 dynamic, 1 dynamic + static).
 void sizes(benchmark::internal::Benchmark* b) {
   for (int set : {1, 0})

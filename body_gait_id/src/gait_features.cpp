@@ -78,32 +78,47 @@ FeatureNormalization FeatureNormalization::fit(const std::vector<GaitFeatures>& 
   if (gallery.empty())
     throw std::invalid_argument(
         "feature normalization: the gallery is empty; enrol at least one subject first");
-  const Eigen::Index nd = gallery.front().dynamic.size(), ns = gallery.front().statics.size();
-  Eigen::VectorXd sum_d = Eigen::VectorXd::Zero(nd), sum_s = Eigen::VectorXd::Zero(ns);
-  for (const GaitFeatures& f : gallery) {
-    if (f.dynamic.size() != nd || f.statics.size() != ns)
-      throw std::invalid_argument(
-          "feature normalization: gallery features of different sizes (mixed views?)");
-    sum_d += f.dynamic;
-    sum_s += f.statics;
+  FeatureMoments moments;
+  for (const GaitFeatures& f : gallery) moments.add(f);
+  return moments.normalization();
+}
+
+void FeatureMoments::add(const GaitFeatures& f, double weight) {
+  if (count == 0 && sum_dynamic.size() == 0) {
+    sum_dynamic = sum_sq_dynamic = Eigen::VectorXd::Zero(f.dynamic.size());
+    sum_static = sum_sq_static = Eigen::VectorXd::Zero(f.statics.size());
   }
-  const double count = static_cast<double>(gallery.size());
-  FeatureNormalization n;
-  n.mean_dynamic = sum_d / count;  // mu_q, mu_r of eqs 5.14-5.15
-  n.mean_static = sum_s / count;
-  Eigen::VectorXd var_d = Eigen::VectorXd::Zero(nd), var_s = Eigen::VectorXd::Zero(ns);
-  for (const GaitFeatures& f : gallery) {
-    var_d += (f.dynamic - n.mean_dynamic).cwiseAbs2();  // diagonal of the covariance (E, d)
-    var_s += (f.statics - n.mean_static).cwiseAbs2();
-  }
-  const auto sigma = [count](const Eigen::VectorXd& var) {
-    Eigen::VectorXd s = (var / count).cwiseSqrt();
+  if (f.dynamic.size() != sum_dynamic.size() || f.statics.size() != sum_static.size())
+    throw std::invalid_argument(
+        "feature normalization: gallery features of different sizes (mixed views?)");
+  count += weight;
+  sum_dynamic += weight * f.dynamic;
+  sum_sq_dynamic += weight * f.dynamic.cwiseAbs2();
+  sum_static += weight * f.statics;
+  sum_sq_static += weight * f.statics.cwiseAbs2();
+}
+
+FeatureNormalization FeatureMoments::normalization() const {
+  if (!(count > 0.5))
+    throw std::invalid_argument(
+        "feature normalization: the gallery is empty; enrol at least one subject first");
+  // Var = E[x^2] - E[x]^2: gait features are O(1) with SDs >= ~1 % of their means, so the
+  // cancellation costs at most ~1e-12 relative in double. It also leaves ~1e-17 where a
+  // component does not vary at all (r of a single subject, eq 5.13), so an SD within 1e-6 of
+  // the mean's size counts as none: sigma = 1.
+  const auto sigma = [this](const Eigen::VectorXd& sum, const Eigen::VectorXd& sum_sq) {
+    const Eigen::VectorXd mean = sum / count;
+    const Eigen::VectorXd var = sum_sq / count - mean.cwiseAbs2();
+    Eigen::VectorXd s(var.size());
     for (Eigen::Index i = 0; i < s.size(); ++i)
-      if (!(s[i] > 1e-12)) s[i] = 1.0;
+      s[i] = var[i] > 1e-12 * mean[i] * mean[i] + 1e-18 ? std::sqrt(var[i]) : 1.0;
     return s;
   };
-  n.sigma_dynamic = sigma(var_d);
-  n.sigma_static = sigma(var_s);
+  FeatureNormalization n;
+  n.mean_dynamic = sum_dynamic / count;  // mu_q, mu_r of eqs 5.14-5.15
+  n.mean_static = sum_static / count;
+  n.sigma_dynamic = sigma(sum_dynamic, sum_sq_dynamic);  // diagonal of the covariance (E, d)
+  n.sigma_static = sigma(sum_static, sum_sq_static);
   return n;
 }
 

@@ -3,6 +3,7 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <map>
@@ -36,7 +37,10 @@ CREATE TABLE normalization (  -- eqs 5.14-5.15 over the whole gallery, per view
   view TEXT PRIMARY KEY,
   pose_count INTEGER NOT NULL,
   mean_dynamic BLOB NOT NULL, sigma_dynamic BLOB NOT NULL,
-  mean_static BLOB NOT NULL, sigma_static BLOB NOT NULL);
+  mean_static BLOB NOT NULL, sigma_static BLOB NOT NULL,
+  -- running sums (FeatureMoments): an enrolment or removal updates them from its own poses
+  sum_dynamic BLOB NOT NULL, sum_sq_dynamic BLOB NOT NULL,
+  sum_static BLOB NOT NULL, sum_sq_static BLOB NOT NULL);
 )sql";
 
 constexpr int kShapeSize = 2 * body_gait::kSegmentCount + 4;
@@ -340,7 +344,7 @@ std::int64_t GalleryDatabase::enroll(const SubjectInfo& info, const std::vector<
     pose.step();
     if (enroll_hook_) enroll_hook_(static_cast<int>(i));
   }
-  refitNormalization();
+  updateNormalization(poses, +1.0);
   transaction.commit();
   return id;
 }
@@ -348,36 +352,59 @@ std::int64_t GalleryDatabase::enroll(const SubjectInfo& info, const std::vector<
 bool GalleryDatabase::remove(std::int64_t subject_id) {
   const auto thrower = [this](int code, const std::string& what) { fail(code, what); };
   Transaction transaction(db_, thrower);
+  std::vector<PoseRecord> leaving = poseRecords(subject_id);
   Statement erase(db_, "DELETE FROM subjects WHERE id = ?", thrower);
   erase.bind(1, subject_id);
   erase.step();
   if (sqlite3_changes(db_) == 0) return false;  // rolled back: nothing changed
-  refitNormalization();
+  updateNormalization(leaving, -1.0);
   transaction.commit();
   return true;
 }
 
-void GalleryDatabase::refitNormalization() {
+void GalleryDatabase::updateNormalization(const std::vector<PoseRecord>& poses, double weight) {
   const auto thrower = [this](int code, const std::string& what) { fail(code, what); };
-  exec("DELETE FROM normalization", "clearing the normalization");
-  const std::vector<PoseRecord> records = poseRecords();
-  if (records.empty()) return;
-  Statement store(db_,
-                  "INSERT INTO normalization (view, pose_count, mean_dynamic, sigma_dynamic, "
-                  "mean_static, sigma_static) VALUES (?, ?, ?, ?, ?, ?)",
-                  thrower);
   for (View view : kViews) {
-    std::vector<GaitFeatures> features;
-    features.reserve(records.size());
-    for (const PoseRecord& record : records) features.push_back(gaitFeatures(record.model, view));
-    const FeatureNormalization n = FeatureNormalization::fit(features);
-    store.reset();
-    store.bind(1, std::string(viewName(view)));
-    store.bind(2, static_cast<std::int64_t>(records.size()));
+    const std::string name = viewName(view);
+    FeatureMoments moments;
+    {
+      Statement read(db_,
+                     "SELECT pose_count, sum_dynamic, sum_sq_dynamic, sum_static, sum_sq_static "
+                     "FROM normalization WHERE view = ?",
+                     thrower);
+      read.bind(1, name);
+      if (read.step()) {
+        const Eigen::Index nd = dynamicSize(view);
+        moments.count = static_cast<double>(read.integer(0));
+        moments.sum_dynamic = read.vector(1, nd);
+        moments.sum_sq_dynamic = read.vector(2, nd);
+        moments.sum_static = read.vector(3, kStaticSize);
+        moments.sum_sq_static = read.vector(4, kStaticSize);
+      }
+    }
+    for (const PoseRecord& record : poses) moments.add(gaitFeatures(record.model, view), weight);
+    if (moments.count < 0.5) {  // the last subject left: no statistics
+      Statement erase(db_, "DELETE FROM normalization WHERE view = ?", thrower);
+      erase.bind(1, name);
+      erase.step();
+      continue;
+    }
+    const FeatureNormalization n = moments.normalization();
+    Statement store(db_,
+                    "INSERT OR REPLACE INTO normalization (view, pose_count, mean_dynamic, "
+                    "sigma_dynamic, mean_static, sigma_static, sum_dynamic, sum_sq_dynamic, "
+                    "sum_static, sum_sq_static) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                    thrower);
+    store.bind(1, name);
+    store.bind(2, static_cast<std::int64_t>(std::llround(moments.count)));
     store.bind(3, n.mean_dynamic);
     store.bind(4, n.sigma_dynamic);
     store.bind(5, n.mean_static);
     store.bind(6, n.sigma_static);
+    store.bind(7, moments.sum_dynamic);
+    store.bind(8, moments.sum_sq_dynamic);
+    store.bind(9, moments.sum_static);
+    store.bind(10, moments.sum_sq_static);
     store.step();
   }
 }
@@ -410,10 +437,14 @@ std::vector<Subject> GalleryDatabase::subjects() const {
   return out;
 }
 
-std::vector<PoseRecord> GalleryDatabase::poseRecords() const {
+std::vector<PoseRecord> GalleryDatabase::poseRecords(std::int64_t subject_id) const {
   const auto thrower = [this](int code, const std::string& what) { fail(code, what); };
-  Statement list(db_, "SELECT subject, sequence, frame, p, q, r, shape FROM poses ORDER BY id",
+  Statement list(db_,
+                 "SELECT subject, sequence, frame, p, q, r, shape FROM poses "
+                 "WHERE ? = 0 OR subject = ? ORDER BY id",
                  thrower);
+  list.bind(1, subject_id);
+  list.bind(2, subject_id);
   std::vector<PoseRecord> out;
   while (list.step()) {
     PoseRecord record;

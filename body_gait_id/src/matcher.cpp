@@ -1,9 +1,11 @@
-// Exact nearest-neighbour matching (thesis eq 5.16) with a principal-axes ordered index; see
-// matcher.h for the scheme.
+// Exact nearest-neighbour matching (thesis eq 5.16) with a k-d tree over the principal axes;
+// see matcher.h for the scheme.
 #include <body_gait_id/matcher.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cmath>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -12,7 +14,11 @@
 namespace body_gait_id {
 namespace {
 
-constexpr int kBlock = 8;  // floats summed between early-exit checks (one AVX register)
+constexpr int kBlock = 8;      // floats summed between early-exit checks (one AVX register)
+constexpr int kLeafRows = 64;  // rows per k-d tree leaf (at most; 16-64 measured alike)
+// A cell is skipped only if its box distance exceeds the best by this factor: the box
+// distance is accumulated in float32 too, and must not drop an exact tie by a rounding.
+constexpr float kPruneSlack = 1.0f + 1e-5f;
 
 std::vector<GaitFeatures> featuresOf(const std::vector<GalleryPose>& gallery) {
   std::vector<GaitFeatures> features;
@@ -68,24 +74,52 @@ void Matcher::build(std::vector<GalleryPose> gallery) {
   const Eigen::MatrixXd covariance = (phi * phi.transpose()).cast<double>() / double(n);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(covariance);
   // Eigen sorts eigenvalues ascending: reverse so the highest variance comes first, which makes
-  // both the first-component ordering and the early exit of the partial distance most selective.
+  // the early exit of the partial distance most selective.
   axes_ = solver.eigenvectors().rowwise().reverse().cast<float>();
   const Eigen::MatrixXf rotated = axes_.transpose() * phi;
 
+  // k-d tree: split a range of rows at the median of its widest axis until leaves are small.
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return rotated(0, a) < rotated(0, b) || (rotated(0, a) == rotated(0, b) && a < b);
-  });
+  nodes_.clear();
+  nodes_.reserve(2 * n / kLeafRows + 2);
+  const std::function<int(std::uint32_t, std::uint32_t)> build = [&](std::uint32_t begin,
+                                                                     std::uint32_t end) {
+    const int index = static_cast<int>(nodes_.size());
+    nodes_.emplace_back();
+    if (end - begin <= std::uint32_t(kLeafRows)) {
+      nodes_[index].begin = begin;
+      nodes_[index].end = end;
+      return index;
+    }
+    Eigen::VectorXf low = rotated.col(order[begin]), high = low;
+    for (std::uint32_t i = begin + 1; i < end; ++i) {
+      low = low.cwiseMin(rotated.col(order[i]));
+      high = high.cwiseMax(rotated.col(order[i]));
+    }
+    int axis = 0;
+    (high - low).maxCoeff(&axis);
+    const std::uint32_t middle = begin + (end - begin) / 2;
+    std::nth_element(
+        order.begin() + begin, order.begin() + middle, order.begin() + end,
+        [&](std::uint32_t a, std::uint32_t b) { return rotated(axis, a) < rotated(axis, b); });
+    const float split = rotated(axis, order[middle]);
+    const int left = build(begin, middle);
+    const int right = build(middle, end);
+    nodes_[index].axis = axis;
+    nodes_[index].split = split;
+    nodes_[index].left = left;
+    nodes_[index].right = right;
+    return index;
+  };
+  build(0, static_cast<std::uint32_t>(n));
 
   std::unordered_map<std::int64_t, std::uint32_t> slots;
   rows_.assign(n * stride_, 0.0f);
-  keys_.resize(n);
   ids_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t source = order[i];
     std::copy_n(rotated.col(source).data(), dimension_, rows_.data() + i * stride_);
-    keys_[i] = rotated(0, source);
     const GalleryPose& pose = gallery[source];
     const auto slot = slots.emplace(pose.subject_id, std::uint32_t(slots.size())).first->second;
     ids_[i] = {pose.subject_id, pose.sequence, pose.frame, source, slot};
@@ -100,41 +134,52 @@ std::vector<float> Matcher::project(const GaitFeatures& probe) const {
   return out;
 }
 
-Match Matcher::identify(const GaitFeatures& probe) const {
-  const std::vector<float> query = project(probe);
-  const float key = query[0];
-  const std::size_t n = keys_.size();
+struct Matcher::Search {
+  const float* query;
+  std::vector<float> offset;  // per axis: distance from the query to the current cell's box
   float best = std::numeric_limits<float>::infinity();
   std::size_t best_index = 0;
-  const auto consider = [&](std::size_t i) {
-    const float d = partialDistance(row(i), query.data(), stride_, best);
-    if (d < best || (d == best && ids_[i].gallery_index < ids_[best_index].gallery_index)) {
-      best = d;
-      best_index = i;
+};
+
+void Matcher::search(int index, float cell_distance, Search& s) const {
+  const Node& node = nodes_[index];
+  if (node.axis < 0) {
+    for (std::uint32_t i = node.begin; i < node.end; ++i) {
+      const float d = partialDistance(row(i), s.query, stride_, s.best);
+      if (d < s.best || (d == s.best && ids_[i].gallery_index < ids_[s.best_index].gallery_index)) {
+        s.best = d;
+        s.best_index = i;
+      }
     }
-  };
-  // Walk outward from the probe's place in the first-component order, always to the nearer
-  // side; a side is done once its key gap squared alone exceeds the best squared distance.
-  std::size_t up = std::lower_bound(keys_.begin(), keys_.end(), key) - keys_.begin();
-  std::size_t down = up;  // candidates below: indices down-1, down-2, ...
-  while (true) {
-    const float gap_up = up < n ? keys_[up] - key : std::numeric_limits<float>::infinity();
-    const float gap_down =
-        down > 0 ? key - keys_[down - 1] : std::numeric_limits<float>::infinity();
-    const bool go_up = gap_up <= gap_down;
-    const float gap = go_up ? gap_up : gap_down;
-    if (!(gap * gap <= best)) break;  // also ends when both sides are exhausted (inf)
-    consider(go_up ? up++ : --down);
+    return;
   }
-  const PoseId& id = ids_[best_index];
-  return {id.subject_id, id.sequence, id.frame, std::sqrt(double(best))};
+  const float gap = s.query[node.axis] - node.split;
+  const int near = gap < 0 ? node.left : node.right;
+  const int far = gap < 0 ? node.right : node.left;
+  search(near, cell_distance, s);
+  // The far cell lies beyond the split plane: its box is |gap| away along this axis.
+  const float previous = s.offset[node.axis];
+  const float far_distance = cell_distance - previous * previous + gap * gap;
+  if (far_distance <= s.best * kPruneSlack) {
+    s.offset[node.axis] = std::abs(gap);
+    search(far, far_distance, s);
+    s.offset[node.axis] = previous;
+  }
+}
+
+Match Matcher::identify(const GaitFeatures& probe) const {
+  const std::vector<float> query = project(probe);
+  Search s{query.data(), std::vector<float>(stride_, 0.0f)};
+  search(0, 0.0f, s);
+  const PoseId& id = ids_[s.best_index];
+  return {id.subject_id, id.sequence, id.frame, std::sqrt(double(s.best))};
 }
 
 std::vector<Match> Matcher::rankSubjects(const GaitFeatures& probe) const {
   const std::vector<float> query = project(probe);
   std::vector<float> best(subject_count_, std::numeric_limits<float>::infinity());
   std::vector<std::size_t> best_index(subject_count_, 0);
-  for (std::size_t i = 0; i < keys_.size(); ++i) {
+  for (std::size_t i = 0; i < ids_.size(); ++i) {
     const std::uint32_t slot = ids_[i].subject_slot;
     const float d = partialDistance(row(i), query.data(), stride_, best[slot]);
     if (d < best[slot] ||

@@ -100,6 +100,13 @@ TEST(FitCache, KeyChangesWithSpecAndScanner) {
   moved = spec;
   moved.materials.hair.albedo = 0.05;
   EXPECT_NE(scanKey(moved, "sampler"), key);
+  // Bodies posed by explicit frames (motion capture, issue 7) differ by their frames alone.
+  moved = spec;
+  moved.segment_frames = body_scan::sim::bodySegmentFrames(spec);
+  const std::string framed = scanKey(moved, "sampler");
+  EXPECT_NE(framed, key);
+  moved.segment_frames->foot[0].origin.x() += 1e-9;
+  EXPECT_NE(scanKey(moved, "sampler"), framed);
 }
 
 }  // namespace

@@ -117,6 +117,38 @@ TEST(FeatureNormalization, MeanAndPopulationSigmaPerComponent) {
   EXPECT_EQ(n.apply(gallery[3], FeatureSet::kDynamic).size(), 2);
 }
 
+// One subject's poses share r exactly (eq 5.13): no spread, sigma 1, not a rounding residue.
+TEST(FeatureNormalization, ConstantComponentsKeepSigmaOne) {
+  std::vector<GaitFeatures> gallery;
+  for (int n = 0; n < 40; ++n)
+    gallery.push_back({Eigen::VectorXd::Constant(22, 0.01 * n),
+                       (Eigen::VectorXd::LinSpaced(12, 0.093, 0.563).array() + 1.0 / 3).matrix()});
+  const FeatureNormalization n = FeatureNormalization::fit(gallery);
+  EXPECT_EQ(n.sigma_static, Eigen::VectorXd::Ones(12));
+  EXPECT_NEAR(n.sigma_dynamic[0], 0.01 * std::sqrt((40.0 * 40.0 - 1) / 12), 1e-12);
+}
+
+// Adding poses and taking them away again gives the statistics of the poses that stay.
+TEST(FeatureMoments, RemovalLeavesTheStatisticsOfTheRest) {
+  std::vector<GaitFeatures> kept, removed;
+  for (int n = 0; n < 30; ++n) {
+    GaitFeatures f{Eigen::VectorXd::Constant(3, std::sin(n)), Eigen::VectorXd::Constant(2, 0.4)};
+    f.statics[1] += 0.01 * std::cos(3 * n);
+    (n % 3 == 0 ? removed : kept).push_back(f);
+  }
+  FeatureMoments moments;
+  for (int n = 0; n < 30; ++n) moments.add(n % 3 == 0 ? removed[n / 3] : kept[n - n / 3 - 1]);
+  for (const GaitFeatures& f : removed) moments.add(f, -1);
+  const FeatureNormalization incremental = moments.normalization(),
+                             direct = FeatureNormalization::fit(kept);
+  EXPECT_LT((incremental.mean_dynamic - direct.mean_dynamic).norm(), 1e-14);
+  EXPECT_LT((incremental.sigma_dynamic - direct.sigma_dynamic).norm(), 1e-12);
+  EXPECT_LT((incremental.sigma_static - direct.sigma_static).norm(), 1e-12);
+  EXPECT_NE(direct.sigma_static[1], 1.0);
+  for (const GaitFeatures& f : kept) moments.add(f, -1);
+  EXPECT_THROW(moments.normalization(), std::invalid_argument);
+}
+
 TEST(FeatureNormalization, BadInputGivesClearErrors) {
   EXPECT_THROW(FeatureNormalization::fit({}), std::invalid_argument);
   const body_gait::BodyModel model = turnedModel(0);

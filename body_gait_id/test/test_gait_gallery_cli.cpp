@@ -104,6 +104,11 @@ TEST_F(GaitGalleryCli, MistakesExitNonZeroWithTheFix) {
   r = run("enroll --name Ada");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("enroll needs --models"), std::string::npos) << r.output;
+  r = run("enroll --name Ada --age 3x --models " + models_file(0));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("--age must be a whole number, not '3x'"), std::string::npos) << r.output;
+  r = run("remove Ada");
+  EXPECT_NE(r.output.find("the subject id must be a whole number"), std::string::npos) << r.output;
   r = run("frobnicate");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("unknown command 'frobnicate'"), std::string::npos) << r.output;

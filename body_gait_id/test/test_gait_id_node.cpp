@@ -218,6 +218,19 @@ TEST_F(GaitIdNodeTest, EnrolRestartIdentifySameAnswers) {
     EXPECT_DOUBLE_EQ(after[i].score, before[i].score) << "probe " << i;
   }
 
+  // A malformed model (empty arrays) and 3 poses instead of 4 are refused; the gallery is fine.
+  body_scan_msgs::Identify malformed;
+  const auto refused = node.call("identify", malformed);
+  EXPECT_FALSE(refused.response.success);
+  EXPECT_NE(refused.response.message.find("BodyModel.p has 0"), std::string::npos)
+      << refused.response.message;
+  body_scan_msgs::EnrollSubject three = enrolment(0);
+  three.request.poses.pop_back();
+  const auto short_enrolment = node.call("enroll", three);
+  EXPECT_FALSE(short_enrolment.response.success);
+  EXPECT_NE(short_enrolment.response.message.find("exactly 4"), std::string::npos)
+      << short_enrolment.response.message;
+
   // Removal through the service; an unknown id is refused with a hint.
   body_scan_msgs::RemoveSubject remove;
   remove.request.subject_id = ids[0];

@@ -214,6 +214,43 @@ TEST_F(GalleryDatabaseTest, LockedDatabaseWaitsThenGivesAClearError) {
   EXPECT_NO_THROW(db.enroll({"Carol", "", 0}, {}, trainingPoses(1.7, 1)));
 }
 
+// Two processes enrolling into one file at once take turns (busy timeout): every subject and
+// every pose arrives, and the running sums of the statistics count them all.
+TEST_F(GalleryDatabaseTest, ConcurrentWritersTakeTurns) {
+  { GalleryDatabase db(path_); }  // the schema exists before the writers start
+  std::vector<pid_t> children;
+  for (int writer = 0; writer < 2; ++writer) {
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      try {
+        GalleryDatabase db(path_, std::chrono::seconds(20));
+        for (int k = 0; k < 5; ++k)
+          db.enroll({"w" + std::to_string(writer) + "_" + std::to_string(k), "", 0}, {},
+                    trainingPoses(1.6 + 0.1 * writer + 0.01 * k, 10 * writer + k));
+      } catch (...) {
+        _exit(2);
+      }
+      _exit(0);
+    }
+    children.push_back(child);
+  }
+  for (pid_t child : children) {
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "a writer failed";
+  }
+  GalleryDatabase db(path_);
+  EXPECT_EQ(db.subjects().size(), 10u);
+  std::vector<GaitFeatures> features;
+  for (const GalleryPose& pose : db.poses()) features.push_back(pose.features);
+  ASSERT_EQ(features.size(), 400u);
+  EXPECT_EQ(scalar("SELECT pose_count FROM normalization WHERE view = '3d'"), 400);
+  const FeatureNormalization expected = FeatureNormalization::fit(features);
+  EXPECT_LT((db.normalization().mean_static - expected.mean_static).norm(), 1e-12);
+  EXPECT_LT((db.normalization().sigma_dynamic - expected.sigma_dynamic).norm(), 1e-12);
+}
+
 // The child enrols A completely, then B slowly; the parent kills it with SIGKILL while B's
 // transaction is half written. Reopened: A whole, B absent, statistics those of A alone.
 TEST_F(GalleryDatabaseTest, KilledMidEnrolmentLosesNothingCommitted) {

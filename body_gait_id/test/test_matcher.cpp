@@ -109,6 +109,25 @@ TEST_P(MatcherTest, RankSubjectsIsEachSubjectsBruteForceBest) {
 INSTANTIATE_TEST_SUITE_P(FeatureSets, MatcherTest,
                          ::testing::Values(FeatureSet::kDynamic, FeatureSet::kDynamicStatic));
 
+// The 2D views' sizes (11 + 12, 11): rows padded from 23 and 11 floats to blocks of 8.
+TEST(Matcher, TwoDimensionalViewSizesMatchThePeer) {
+  std::mt19937 rng(13);
+  std::vector<GalleryPose> gallery = randomGallery(30, 40, rng);
+  for (GalleryPose& pose : gallery) pose.features.dynamic.conservativeResize(11);
+  for (FeatureSet set : {FeatureSet::kDynamic, FeatureSet::kDynamicStatic}) {
+    const Matcher matcher(gallery, set);
+    const BruteForceMatcher peer(gallery, set, matcher.normalization());
+    std::uniform_int_distribution<std::size_t> pick(0, gallery.size() - 1);
+    for (int i = 0; i < 200; ++i) {
+      const GaitFeatures probe = perturbed(gallery[pick(rng)].features, 0.1 + 0.01 * i, rng);
+      const Match indexed = matcher.identify(probe), brute = peer.identify(probe);
+      ASSERT_EQ(indexed.subject_id, brute.subject_id) << "probe " << i;
+      ASSERT_EQ(indexed.frame, brute.frame) << "probe " << i;
+      ASSERT_NEAR(indexed.score, brute.score, 1e-5 * (1 + brute.score));
+    }
+  }
+}
+
 TEST(Matcher, StoredNormalizationIsUsedAsGiven) {
   std::mt19937 rng(5);
   const std::vector<GalleryPose> gallery = randomGallery(5, 40, rng);

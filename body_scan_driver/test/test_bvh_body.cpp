@@ -32,6 +32,62 @@ std::map<std::string, Eigen::Vector3d> skeletonOf(const HumanBodySpec& spec) {
   return joints;
 }
 
+// poseBodyOnSkeleton is the angle-posed body's own geometry: fed that body's joints and segment
+// orientations it rebuilds the same skeleton and the same surfaces.
+TEST(PoseBodyOnSkeleton, RebuildsTheAnglePosedBodyFromItsOwnSkeleton) {
+  HumanBodySpec spec;
+  spec.name = "walker";
+  spec.body = Anthropometry::fromStature(1.68);
+  spec.position = Eigen::Vector3d(0.05, -0.03, 0);
+  BodyPose& pose = spec.pose;
+  pose.heading = 0.4;
+  pose.torso_lean = 0.05;
+  pose.neck_flexion = 0.1;
+  pose.right_hip_flexion = 0.35, pose.right_knee_flexion = 0.1;
+  pose.left_hip_flexion = -0.3, pose.left_knee_flexion = 0.5;
+  pose.left_shoulder_flexion = 0.3, pose.right_shoulder_flexion = -0.25;
+  pose.left_elbow_flexion = 0.4;
+  const BodySegmentFrames frames = bodySegmentFrames(spec);
+  SkeletonPose skeleton;
+  skeleton.joints = skeletonOf(spec);
+  skeleton.orientations = {{"pelvis", frames.pelvis.rotation},
+                           {"torso", frames.torso.rotation},
+                           {"neck", frames.neck.rotation}};
+  const char* const kSides[2] = {"left_", "right_"};
+  for (int side = 0; side < 2; ++side) {
+    const std::string prefix = kSides[side];
+    skeleton.orientations[prefix + "upper_arm"] = frames.upper_arm[side].rotation;
+    skeleton.orientations[prefix + "forearm"] = frames.forearm[side].rotation;
+    skeleton.orientations[prefix + "hand"] = frames.hand[side].rotation;
+    skeleton.orientations[prefix + "thigh"] = frames.thigh[side].rotation;
+    skeleton.orientations[prefix + "shank"] = frames.shank[side].rotation;
+    skeleton.orientations[prefix + "foot"] = frames.foot[side].rotation;
+  }
+  HumanBodySpec rebuilt;
+  rebuilt.name = spec.name;
+  rebuilt.body = Anthropometry::fromStature(1.68);  // girths and ankle height
+  rebuilt.body.thigh_length = 1;                    // lengths come from the joints
+  poseBodyOnSkeleton(skeleton, rebuilt);
+  for (const auto& [name, position] : skeletonOf(rebuilt))
+    EXPECT_LT((position - skeleton.joints.at(name)).norm(), 1e-9) << name;
+  EXPECT_NEAR(rebuilt.body.thigh_length, spec.body.thigh_length, 1e-9);
+  EXPECT_NEAR(rebuilt.body.torso_length, spec.body.torso_length, 1e-9);
+  EXPECT_NEAR(rebuilt.body.head_height, spec.body.head_height, 1e-9);
+  Scene original, copy;
+  addHumanBody(spec, original);
+  addHumanBody(rebuilt, copy);
+  ASSERT_EQ(original.surfaces().size(), copy.surfaces().size());
+  for (size_t i = 0; i < original.surfaces().size(); ++i) {
+    const auto* a = dynamic_cast<const Ellipsoid*>(original.surfaces()[i].get());
+    const auto* b = dynamic_cast<const Ellipsoid*>(copy.surfaces()[i].get());
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(a->name, b->name);
+    EXPECT_LT((a->center() - b->center()).norm(), 1e-9) << a->name;
+    EXPECT_LT((a->radii() - b->radii()).norm(), 1e-9) << a->name;
+    EXPECT_LT((a->orientation() - b->orientation()).norm(), 1e-9) << a->name;
+  }
+}
+
 TEST(BvhJointMap, CmuMapLoadsWithYUpAndZForward) {
   const BvhJointMap map = loadBvhJointMap(kMapPath);
   EXPECT_EQ(map.scheme, "cmu");
@@ -193,6 +249,46 @@ TEST(GaitPoses, PickedPosesMatchTheThesisDefinitions) {
                 0.35);
     }
   }
+}
+
+// A scene file places a BVH frame like any human: turned by heading_deg, moved to position.
+TEST(BvhHumanScene, SceneObjectPlacesTheChosenFrame) {
+  SKIP_WITHOUT_CMU_WALKS();
+  const std::string object =
+      "objects:\n  - type: bvh_human\n    name: w\n    bvh: " + bvhPath("07_02") +
+      "\n    joint_map: " + kMapPath + "\n";
+  const Scene scene =
+      parseScene(object + "    gait_pose: 3\n    position: [1, 0.5, 0]\n    heading_deg: 90\n");
+  const BvhSubject subject(loadBvh(bvhPath("07_02")), loadBvhJointMap(kMapPath), "w");
+  const int frame = pickGaitPoses(subject).frame[2];
+  const auto placed = skeletonOf(subject.body(frame));
+  ASSERT_FALSE(scene.skeleton().empty());
+  for (const SkeletonJoint& joint : scene.skeleton()) {
+    const Eigen::Vector3d& p = placed.at(joint.name);
+    // 90 deg about z: (x, y) -> (-y, x), then + (1, 0.5).
+    EXPECT_LT((joint.position - Eigen::Vector3d(1 - p.y(), 0.5 + p.x(), p.z())).norm(), 1e-9)
+        << joint.name;
+  }
+  EXPECT_EQ(scene.surfaces().front()->name.rfind("w/", 0), 0u);
+  // The shipped scene file finds the walk next to the repository (its relative path).
+  if (fs::exists(BODY_SCAN_BVH_DIR "/07_02.bvh")) {
+    EXPECT_GT(loadScene(BODY_SCAN_DRIVER_CONFIG_DIR "/scenes/bvh_walker.yaml").skeleton().size(),
+              10u);
+  }
+  auto error = [&](const std::string& keys) {
+    try {
+      parseScene(object + keys);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(error("    frame: 12\n"), "accepted");
+  EXPECT_NE(error("    frame: 12\n    gait_pose: 1\n").find("either 'frame'"), std::string::npos);
+  EXPECT_NE(error("    frame: 201\n").find("'frame' must be 1..200"), std::string::npos);
+  EXPECT_NE(error("    gait_pose: 5\n").find("'gait_pose' must be 1..4"), std::string::npos);
+  EXPECT_NE(error("    frame: 1\n    speed: 2\n").find("unknown key 'speed'"), std::string::npos);
+  EXPECT_NE(error("    frame: 1\n    stature: -1\n").find("stature"), std::string::npos);
 }
 
 TEST(GaitPoses, ShortClipIsAClearError) {

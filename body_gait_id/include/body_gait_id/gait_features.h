@@ -30,8 +30,8 @@ constexpr int kStaticSize = body_gait::kSegmentCount;
 GaitFeatures gaitFeatures(const body_gait::BodyModel& model, View view = View::k3D);
 
 // Eqs 5.14-5.15: per-component mean and standard deviation over the gallery (population SD,
-// the thesis's 1/(MN)). A component that does not vary in the gallery (SD below 1e-12) keeps
-// sigma = 1 so it neither divides by zero nor weighs in.
+// the thesis's 1/(MN)). A component that does not vary in the gallery (SD within 1e-6 of its
+// mean's size, or below 1e-9) keeps sigma = 1 so it neither divides by zero nor weighs in.
 struct FeatureNormalization {
   Eigen::VectorXd mean_dynamic, sigma_dynamic, mean_static, sigma_static;
 
@@ -44,6 +44,20 @@ struct FeatureNormalization {
   Eigen::VectorXd normalized(const GaitFeatures& f, FeatureSet set) const;
   // Length of apply()'s vector.
   int size(FeatureSet set) const;
+};
+
+// Running sums over a gallery (pose count, per-component sum and sum of squares), from which
+// eqs 5.14-5.15's mean and SD follow: the gallery database keeps them so that an enrolment or a
+// removal updates the statistics from that subject's poses alone. fit() uses them too.
+struct FeatureMoments {
+  double count = 0;
+  Eigen::VectorXd sum_dynamic, sum_sq_dynamic, sum_static, sum_sq_static;
+
+  // Adds a pose (weight 1) or takes one away (weight -1). Throws std::invalid_argument when
+  // the sizes differ from the poses added before (mixed views).
+  void add(const GaitFeatures& f, double weight = 1.0);
+  // Throws std::invalid_argument when no pose is left.
+  FeatureNormalization normalization() const;
 };
 
 }  // namespace body_gait_id

@@ -65,6 +65,9 @@ View parseView(const std::string& name);
 const char* featureSetName(FeatureSet set);
 FeatureSet parseFeatureSet(const std::string& name);
 
+// One connection to the file: use an object from one thread at a time (the node's callbacks
+// run in one spinner thread). Several processes may open the same file: readers run alongside
+// a writer (WAL), writers take turns (busy timeout).
 class GalleryDatabase {
  public:
   static constexpr int kSchemaVersion = 1;
@@ -78,18 +81,20 @@ class GalleryDatabase {
   GalleryDatabase(const GalleryDatabase&) = delete;
   GalleryDatabase& operator=(const GalleryDatabase&) = delete;
 
-  // Enrols one person with their scans and training poses (features computed here) and refits
-  // the stored normalization: all in one transaction. Returns the new subject id (ids are never
+  // Enrols one person with their scans and training poses (features computed here) and adds
+  // them to the stored normalization (running sums: the cost does not grow with the gallery):
+  // all in one transaction. Returns the new subject id (ids are never
   // reused). Throws GalleryError (nothing written) when there are no poses, the name is empty,
   // or the database is locked or read-only.
   std::int64_t enroll(const SubjectInfo& info, const std::vector<std::string>& scans,
                       const std::vector<PoseRecord>& poses);
-  // Removes a subject with their scans and poses and refits the normalization. Returns false if
-  // no subject has that id.
+  // Removes a subject with their scans and poses and takes them out of the normalization. Returns
+  // false if no subject has that id.
   bool remove(std::int64_t subject_id);
 
   std::vector<Subject> subjects() const;
-  std::vector<PoseRecord> poseRecords() const;
+  // Every stored pose, or one subject's (subject_id != 0; ids start at 1).
+  std::vector<PoseRecord> poseRecords(std::int64_t subject_id = 0) const;
   // The gallery's training poses with the features of a view (3D from the stored features, 2D
   // views computed from the stored models).
   std::vector<GalleryPose> poses(View view = View::k3D) const;
@@ -108,7 +113,8 @@ class GalleryDatabase {
  private:
   void createOrCheckSchema();
   int tableCount(bool& has_version) const;
-  void refitNormalization();
+  // Adds (weight 1) or takes away (weight -1) poses from the stored statistics of every view.
+  void updateNormalization(const std::vector<PoseRecord>& poses, double weight);
   void exec(const char* sql, const char* what);
   [[noreturn]] void fail(int code, const std::string& what) const;
 

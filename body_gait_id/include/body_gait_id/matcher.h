@@ -4,11 +4,14 @@
 //
 // The search is exact (the same nearest pose as a brute-force scan) but indexed so that a query
 // stays fast on large galleries: the normalized vectors are rotated onto their principal axes
-// (an orthogonal map, so L2 distances do not change), stored as contiguous float32 rows sorted
-// by the first principal component, and a query walks outward from its own first component,
-// stopping on each side once that component's gap alone exceeds the best distance; each
-// candidate's distance is summed highest-variance axes first and abandoned as soon as it
-// exceeds the best (partial-distance early exit). Scores carry float32 rounding (~1e-6 relative).
+// (an orthogonal map, so L2 distances do not change) and stored as contiguous float32 rows in
+// the leaf order of a k-d tree (median splits on the axis of largest spread, leaves of <= 64
+// rows). A query descends to its own leaf first, then visits a far cell only if the squared
+// distance from the query to that cell's box (kept incrementally, Arya & Mount) can still beat
+// the best; each candidate's distance is summed highest-variance axes first, 8 at a time, and
+// abandoned as soon as it exceeds the best (partial-distance early exit). Gait features are
+// strongly correlated, so the leading axes carry most of the spread and the boxes prune well
+// although phi has 22-34 dimensions. Scores carry float32 rounding (~1e-6 relative).
 #pragma once
 
 #include <body_gait_id/gait_features.h>
@@ -49,13 +52,15 @@ class Matcher {
 
   const FeatureNormalization& normalization() const { return normalization_; }
   FeatureSet featureSet() const { return set_; }
-  std::size_t size() const { return keys_.size(); }
+  std::size_t size() const { return ids_.size(); }
 
  private:
   void build(std::vector<GalleryPose> gallery);
   // The probe's row in the principal-axes frame (padded to stride_ floats).
   std::vector<float> project(const GaitFeatures& probe) const;
   const float* row(std::size_t i) const { return rows_.data() + i * stride_; }
+  struct Search;
+  void search(int node, float cell_distance, Search& s) const;
 
   FeatureSet set_;
   FeatureNormalization normalization_;
@@ -63,8 +68,14 @@ class Matcher {
   int stride_ = 0;     // dimension_ rounded up to a multiple of 8 (zero padded)
   Eigen::VectorXf centre_;
   Eigen::MatrixXf axes_;     // columns: principal axes, highest variance first
-  std::vector<float> rows_;  // sorted by keys_
-  std::vector<float> keys_;  // first principal component of each row (== row(i)[0])
+  std::vector<float> rows_;  // in the tree's leaf order
+  struct Node {
+    int axis = -1;    // split axis, -1 for a leaf
+    float split = 0;  // rows below go left, the others right
+    int left = -1, right = -1;
+    std::uint32_t begin = 0, end = 0;  // a leaf's rows
+  };
+  std::vector<Node> nodes_;  // nodes_[0] is the root
   struct PoseId {
     std::int64_t subject_id;
     int sequence, frame;

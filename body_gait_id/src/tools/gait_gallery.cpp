@@ -42,6 +42,20 @@ struct Arguments {
   }
 };
 
+// A whole decimal integer, or an error naming the option and what was given.
+long long integer(const std::string& text, const std::string& what) {
+  std::size_t used = 0;
+  long long value = 0;
+  try {
+    value = std::stoll(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size())
+    throw std::invalid_argument(what + " must be a whole number, not '" + text + "'");
+  return value;
+}
+
 Arguments parse(int argc, char** argv) {
   Arguments args;
   for (int i = 1; i < argc; ++i) {
@@ -77,7 +91,7 @@ int run(const Arguments& args) {
   }
   if (args.command == "enroll") {
     const SubjectInfo info{args.required("name"), args.one("gender"),
-                           std::stoi(args.one("age", "0"))};
+                           static_cast<int>(integer(args.one("age", "0"), "--age"))};
     std::vector<std::string> scans;
     for (auto [it, end] = args.options.equal_range("scan"); it != end; ++it)
       scans.push_back(it->second);
@@ -91,7 +105,7 @@ int run(const Arguments& args) {
   if (args.command == "remove") {
     if (args.positional.size() != 1)
       throw std::invalid_argument("remove needs one subject id (see gait_gallery list)");
-    const std::int64_t id = std::stoll(args.positional[0]);
+    const std::int64_t id = integer(args.positional[0], "the subject id");
     if (!db.remove(id)) {
       std::fprintf(stderr, "gait_gallery: no subject %ld in %s (see gait_gallery list)\n",
                    static_cast<long>(id), db.path().c_str());

@@ -6,7 +6,9 @@
 //                     [--missing-viewpoints i,j,...] [--abduction-deg D] [--direct 1]
 //                     [--test-headings 1] [--per-joint 1] [--full-scanner 1]
 //                     [--missing-pairs pole_c/pair_2,...] [--only SUBJECT]
-//                     [--clouds DIR] [--rig RIG.yaml] [--dark-albedo A] [--out report.yaml]
+//                     [--clouds DIR] [--rig RIG.yaml] [--dark-albedo A] [--people N]
+//                     [--lean-deg D]
+//                     [--out report.yaml]
 //
 // After the summary: per joint the mean error and mean offset (fitted - true) in the true body
 // frame (forward, left, up), per limb segment the mean absolute and signed length error.
@@ -18,7 +20,10 @@
 // --rig scans with another rig file than the thesis rig; --dark-albedo sets the albedo of the
 // hair and the trunks (default 0.15; below ~0.05 the full scanner decodes little of them).
 // --only runs one subject (e.g. subject_9); --clouds writes every case's cloud to
-// DIR/<subject>_pose<k>.ply (world frame) for a look in rviz or a viewer.
+// DIR/<subject>_pose<k>.ply (world frame) for a look in rviz or a viewer. --people N fits
+// simulatedPeople(N) (eval/gait_subjects.h: survey-drawn bodies, personal gait styles; walk 0)
+// instead of simulatedSubjects. --lean-deg D sets every simulated body's forward torso lean
+// (simulatedSubjects stand upright, simulatedPeople lean by their style, ~3 +- 2 deg).
 //
 // Motion-capture subjects (issue 7): --bvh [PERSON=]WALK.bvh,... replaces the simulated subjects
 // by real walks: in each walk the 4 poses of 5.3 are picked (body_scan_driver's pickGaitPoses),
@@ -32,6 +37,7 @@
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/eval/body_cloud_sampler.h>
 #include <body_gait_model/eval/full_scanner_body.h>
+#include <body_gait_model/eval/gait_subjects.h>
 #include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/sim/bvh_body.h>
 #include <body_scan_merge/ply_writer.h>
@@ -53,14 +59,16 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 [[noreturn]] void usage(const std::string& problem) {
-  std::fprintf(stderr,
-               "evaluate_body_fit: %s\nusage: evaluate_body_fit [--subjects N (>= 1)] [--columns "
-               "C (ray grid per viewpoint, >= 20)] [--noise SIGMA_M] [--min-albedo A] "
-               "[--missing-viewpoints i,j] [--abduction-deg D] [--direct 1] [--test-headings 1] "
-               "[--per-joint 1] [--full-scanner 1] [--missing-pairs id,id] [--only SUBJECT] "
-               "[--clouds DIR] [--rig RIG.yaml] [--bvh [PERSON=]WALK.bvh,...] [--bvh-map MAP.yaml] "
-               "[--models DIR] [--out report.yaml]\n",
-               problem.c_str());
+  std::fprintf(
+      stderr,
+      "evaluate_body_fit: %s\nusage: evaluate_body_fit [--subjects N (>= 1)] [--columns "
+      "C (ray grid per viewpoint, >= 20)] [--noise SIGMA_M] [--min-albedo A] "
+      "[--missing-viewpoints i,j] [--abduction-deg D] [--direct 1] [--test-headings 1] "
+      "[--per-joint 1] [--full-scanner 1] [--missing-pairs id,id] [--only SUBJECT] "
+      "[--clouds DIR] [--rig RIG.yaml] [--people N] [--lean-deg D] [--bvh [PERSON=]WALK.bvh,...] "
+      "[--bvh-map MAP.yaml] "
+      "[--models DIR] [--out report.yaml]\n",
+      problem.c_str());
   std::exit(2);
 }
 
@@ -168,8 +176,10 @@ std::string yamlList(const Vector& values) {
 
 int main(int argc, char** argv) {
   int subjects = 10;
+  int people = 0;  // > 0: simulatedPeople instead of simulatedSubjects
   std::string out;
   double abduction_deg = -1;
+  double lean_deg = -100;  // > -90: every simulated body's forward torso lean (deg)
   bool test_headings = false, per_joint = false, full_scanner = false;
   body_gait::eval::FullScannerOptions scanner;
   std::string only, clouds, models_out, picture;
@@ -186,6 +196,9 @@ int main(int argc, char** argv) {
     const char* value = argv[++i];
     if (flag == "--subjects") {
       subjects = int(number(value, flag));
+    } else if (flag == "--people") {
+      people = int(number(value, flag));
+      if (people < 1) usage("--people must be >= 1");
     } else if (flag == "--columns") {
       rig.columns = int(number(value, flag));
       rig.rows = rig.columns * 13 / 16;
@@ -199,6 +212,9 @@ int main(int argc, char** argv) {
       while (std::getline(list, item, ',')) rig.missing_viewpoints.push_back(std::stoi(item));
     } else if (flag == "--abduction-deg") {
       abduction_deg = number(value, flag);
+    } else if (flag == "--lean-deg") {
+      lean_deg = number(value, flag);
+      if (!(lean_deg > -90 && lean_deg < 90)) usage("--lean-deg must be within (-90, 90)");
     } else if (flag == "--direct") {
       options.refine = number(value, flag) == 0;
     } else if (flag == "--per-joint") {
@@ -234,13 +250,25 @@ int main(int argc, char** argv) {
     }
   }
   if (subjects < 1 || rig.columns < 20) usage("--subjects must be >= 1 and --columns >= 20");
+  // Simulated bodies: simulatedSubjects (the fit figures' subjects) or simulatedPeople.
+  std::vector<body_scan::sim::HumanBodySpec> bodies;
+  std::vector<body_gait::eval::SimulatedPerson> persons;
+  if (people > 0) {
+    persons = body_gait::eval::simulatedPeople(people);
+    for (const auto& person : persons) {
+      bodies.emplace_back();
+      bodies.back().name = person.name;
+    }
+    subjects = people;
+  } else {
+    bodies = body_gait::eval::simulatedSubjects(subjects);
+  }
   if (!only.empty() && bvh_files.empty()) {
     bool known = false;
-    for (const auto& subject : body_gait::eval::simulatedSubjects(subjects))
-      known = known || subject.name == only;
+    for (const auto& body : bodies) known = known || body.name == only;
     if (!known)
-      usage("--only " + only + ": no such subject among subject_0 .. subject_" +
-            std::to_string(subjects - 1));
+      usage("--only " + only + ": no such subject among " + bodies.front().name + " .. " +
+            bodies.back().name);
   }
 
   // The cases: simulated subjects x the 4 poses, or the 4 picked poses of every BVH walk.
@@ -256,17 +284,22 @@ int main(int argc, char** argv) {
     subjects = int(bvh_files.size());
   } else {
     int index = 0;
-    for (const auto& subject : body_gait::eval::simulatedSubjects(subjects)) {
+    for (size_t k = 0; k < bodies.size(); ++k) {
       for (int pose = 1; pose <= 4; ++pose, ++index) {
         Case c;
-        c.spec = subject;
         c.pose = pose;
-        c.spec.pose = body_gait::eval::gaitPose(
-            pose, full_scanner ? body_gait::eval::fullScannerHeading(index)
-                               : 0.3 + 1.7 * (test_headings ? pose : pose + index));
+        const double heading = full_scanner ? body_gait::eval::fullScannerHeading(index)
+                                            : 0.3 + 1.7 * (test_headings ? pose : pose + index);
+        if (people > 0) {
+          c.spec = body_gait::eval::walkingSubject(persons[k], pose, 0, heading);
+        } else {
+          c.spec = bodies[k];
+          c.spec.pose = body_gait::eval::gaitPose(pose, heading);
+        }
         if (abduction_deg >= 0)
           c.spec.pose.left_shoulder_abduction = c.spec.pose.right_shoulder_abduction =
               abduction_deg * kPi / 180;
+        if (lean_deg > -90) c.spec.pose.torso_lean = lean_deg * kPi / 180;
         all_cases.push_back(c);
       }
     }

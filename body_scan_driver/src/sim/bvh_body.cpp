@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 #include <utility>
 
@@ -276,6 +277,75 @@ GaitPoseFrames pickGaitPoses(const BvhSubject& subject) {
   throw std::runtime_error(where + ": no heel strike and mid-stance of both feet in " +
                            std::to_string(frames) +
                            " frames (a walk needs about one gait cycle, ~1.1 s)");
+}
+
+void moveBody(HumanBodySpec& spec, double heading, const Eigen::Vector3d& position) {
+  if (!spec.segment_frames)
+    throw std::invalid_argument("moveBody: the body has no segment frames (use BvhSubject::body)");
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d shift(position.x(), position.y(), 0);
+  const Eigen::Vector3d old_position = spec.position;
+  auto move = [&](SegmentFrame& frame) {
+    frame.origin = turn * (frame.origin - old_position) + shift;
+    frame.rotation = turn * frame.rotation;
+  };
+  BodySegmentFrames& frames = *spec.segment_frames;
+  for (SegmentFrame* frame : {&frames.pelvis, &frames.torso, &frames.neck}) move(*frame);
+  for (int side = 0; side < 2; ++side)
+    for (SegmentFrame* frame : {&frames.upper_arm[side], &frames.forearm[side], &frames.hand[side],
+                                &frames.thigh[side], &frames.shank[side], &frames.foot[side]})
+      move(*frame);
+  spec.pose.heading += heading;
+  spec.position = shift;
+}
+
+HumanBodySpec bvhHumanFromYaml(const YAML::Node& object, const std::string& where,
+                               const std::string& base_dir) {
+  requireKnownKeys(object,
+                   {"type", "name", "bvh", "joint_map", "frame", "gait_pose", "stature", "position",
+                    "heading_deg", "materials"},
+                   where);
+  auto file = [&](const char* key) {
+    if (!object[key])
+      throw std::runtime_error(where + ": bvh_human needs '" + key + "' (a file name)");
+    const std::filesystem::path path = object[key].as<std::string>();
+    return (path.is_relative() && !base_dir.empty() ? std::filesystem::path(base_dir) / path : path)
+        .string();
+  };
+  // name, stature, position, heading and materials as for a human (one reader of those keys).
+  YAML::Node human(YAML::NodeType::Map);
+  for (const char* key : {"name", "stature", "position", "heading_deg", "materials"})
+    if (object[key]) human[key] = object[key];
+  const HumanBodySpec looks = humanBodyFromYaml(human);
+  const std::string name = object["name"] ? looks.name : "walker";
+  HumanBodySpec spec;
+  try {
+    const BvhSubject subject(loadBvh(file("bvh")), loadBvhJointMap(file("joint_map")), name);
+    if (object["frame"].IsDefined() == object["gait_pose"].IsDefined())
+      throw std::runtime_error("give either 'frame' (1-based) or 'gait_pose' (1-4)");
+    int frame = 0;
+    if (object["frame"]) {
+      frame = object["frame"].as<int>() - 1;
+      if (frame < 0 || frame >= subject.frameCount())
+        throw std::runtime_error("'frame' must be 1.." + std::to_string(subject.frameCount()));
+    } else {
+      const int pose = object["gait_pose"].as<int>();
+      if (pose < 1 || pose > 4) throw std::runtime_error("'gait_pose' must be 1..4 (thesis 5.3)");
+      frame = pickGaitPoses(subject).frame[pose - 1];
+    }
+    Anthropometry body =
+        object["stature"] ? looks.body : Anthropometry::fromStature(subject.estimatedStature());
+    spec = subject.body(frame, body);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(where + ": " + e.what());
+  } catch (const std::exception& e) {
+    throw std::runtime_error(where + ": " + e.what());
+  }
+  spec.name = name;
+  spec.materials = looks.materials;
+  moveBody(spec, looks.pose.heading, looks.position);
+  return spec;
 }
 
 }  // namespace body_scan::sim

@@ -1,9 +1,11 @@
+#include <body_scan_driver/sim/bvh_body.h>
 #include <body_scan_driver/sim/calibration_cylinder.h>
 #include <body_scan_driver/sim/human_body.h>
 #include <body_scan_driver/sim/scene.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <filesystem>
 #include <optional>
 #include <stdexcept>
 
@@ -255,7 +257,8 @@ Material readMaterial(const YAML::Node& node) {
   return material;
 }
 
-void addObject(const YAML::Node& object, const std::string& where, Scene& scene) {
+void addObject(const YAML::Node& object, const std::string& where, const std::string& base_dir,
+               Scene& scene) {
   const std::string type = object["type"] ? object["type"].as<std::string>() : "";
   std::unique_ptr<Surface> surface;
   if (type == "plane") {
@@ -297,10 +300,13 @@ void addObject(const YAML::Node& object, const std::string& where, Scene& scene)
   } else if (type == "human") {
     addHumanBody(humanBodyFromYaml(object), scene);
     return;
+  } else if (type == "bvh_human") {
+    addHumanBody(bvhHumanFromYaml(object, where, base_dir), scene);
+    return;
   } else {
-    throw std::runtime_error(
-        where + ": unknown type '" + type +
-        "'; use plane, checkerboard, sphere, cylinder, calibration_cylinder or human");
+    throw std::runtime_error(where + ": unknown type '" + type +
+                             "'; use plane, checkerboard, sphere, cylinder, calibration_cylinder, "
+                             "human or bvh_human");
   }
   surface->name = object["name"] ? object["name"].as<std::string>() : type;
   scene.add(std::move(surface));
@@ -311,7 +317,9 @@ void addObject(const YAML::Node& object, const std::string& where, Scene& scene)
 namespace {
 
 // `source` names the text in errors ("scene file 'x.yaml'"), `prefix` starts each object's.
-Scene sceneFromYaml(const YAML::Node& root, const std::string& source, const std::string& prefix) {
+// Relative file names in objects (bvh_human) are relative to base_dir.
+Scene sceneFromYaml(const YAML::Node& root, const std::string& source, const std::string& prefix,
+                    const std::string& base_dir) {
   if (!root["objects"] || !root["objects"].IsSequence())
     throw std::runtime_error(source + " needs a list 'objects:'");
   Scene scene;
@@ -319,7 +327,7 @@ Scene sceneFromYaml(const YAML::Node& root, const std::string& source, const std
   for (const YAML::Node& object : root["objects"]) {
     const std::string where = prefix + ": objects[" + std::to_string(index++) + "]";
     try {
-      addObject(object, where, scene);
+      addObject(object, where, base_dir, scene);
     } catch (const YAML::Exception& e) {
       throw std::runtime_error(where + ": " + e.what());
     }
@@ -330,7 +338,8 @@ Scene sceneFromYaml(const YAML::Node& root, const std::string& source, const std
 }  // namespace
 
 Scene loadScene(const std::string& path) {
-  return sceneFromYaml(loadYamlFile(path, "scene"), "scene file '" + path + "'", path);
+  return sceneFromYaml(loadYamlFile(path, "scene"), "scene file '" + path + "'", path,
+                       std::filesystem::path(path).parent_path().string());
 }
 
 Scene parseScene(const std::string& yaml_text) {
@@ -341,7 +350,7 @@ Scene parseScene(const std::string& yaml_text) {
     throw std::runtime_error(std::string("cannot parse the scene text: ") + e.what() +
                              " (check the YAML syntax)");
   }
-  return sceneFromYaml(root, "the scene text", "scene text");
+  return sceneFromYaml(root, "the scene text", "scene text", "");
 }
 
 }  // namespace body_scan::sim

@@ -3,7 +3,7 @@
 //   bvh_gait_poses [--map config/bvh/cmu_joint_map.yaml] WALK.bvh [WALK.bvh ...]
 //
 // One line per walk: the 1-based frame numbers (as in the file) and times of poses 1-4, the
-// walking speed, the stride at pose 1 and the hip-ankle lead at poses 2 and 4.
+// walking speed, the stride at pose 1 and the stature the legs imply (girths follow it).
 #include <body_scan_driver/sim/bvh_body.h>
 
 #include <cstdio>
@@ -34,8 +34,8 @@ int main(int argc, char** argv) {
   int failures = 0;
   try {
     const BvhJointMap map = loadBvhJointMap(map_path);
-    std::printf("%-8s %6s %-29s %-33s %9s %9s\n", "walk", "frames", "pose frames 1 2 3 4 (1-based)",
-                "times s", "speed m/s", "stride m");
+    std::printf("%-8s %6s %-29s %-33s %9s %9s %9s\n", "walk", "frames",
+                "pose frames 1 2 3 4 (1-based)", "times s", "speed m/s", "stride m", "stature m");
     for (const std::string& file : files) {
       try {
         const BvhSubject subject(loadBvh(file), map, std::filesystem::path(file).stem().string());
@@ -43,11 +43,11 @@ int main(int argc, char** argv) {
         const double dt = subject.motion().frame_time;
         const auto stance = subject.joints(poses.frame[0]);
         const double stride = (stance.at("right_ankle") - stance.at("left_ankle")).head<2>().norm();
-        std::printf("%-8s %6d %6d %6d %6d %6d        %7.3f %7.3f %7.3f %7.3f  %9.2f %9.2f\n",
+        std::printf("%-8s %6d %6d %6d %6d %6d        %7.3f %7.3f %7.3f %7.3f  %9.2f %9.2f %9.2f\n",
                     subject.name().c_str(), subject.frameCount(), poses.frame[0] + 1,
                     poses.frame[1] + 1, poses.frame[2] + 1, poses.frame[3] + 1, poses.frame[0] * dt,
                     poses.frame[1] * dt, poses.frame[2] * dt, poses.frame[3] * dt,
-                    poses.walking_speed, stride);
+                    poses.walking_speed, stride, subject.estimatedStature());
       } catch (const std::exception& error) {
         std::fprintf(stderr, "bvh_gait_poses: %s\n", error.what());
         ++failures;

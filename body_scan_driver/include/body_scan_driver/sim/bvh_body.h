@@ -80,4 +80,15 @@ struct GaitPoseFrames {
 // Throws std::runtime_error if the clip holds no complete set (too short, or not a walk).
 GaitPoseFrames pickGaitPoses(const BvhSubject& subject);
 
+// Turns a placed body (BvhSubject::body) by `heading` about world z and moves it to `position`
+// (floor point under the pelvis): its frames, pose.heading and position.
+void moveBody(HumanBodySpec& spec, double heading, const Eigen::Vector3d& position);
+
+// A scene-file object of type bvh_human (config/scenes/bvh_walker.yaml): keys bvh and joint_map
+// (files, relative to base_dir), frame (1-based) or gait_pose (1-4, thesis 5.3, picked), and
+// human's name, stature (girths; default from the legs), position, heading_deg, materials.
+// Throws std::runtime_error naming `where` and the key.
+HumanBodySpec bvhHumanFromYaml(const YAML::Node& object, const std::string& where,
+                               const std::string& base_dir);
+
 }  // namespace body_scan::sim

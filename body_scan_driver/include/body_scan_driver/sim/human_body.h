@@ -129,11 +129,18 @@ void poseBodyOnSkeleton(const SkeletonPose& skeleton, HumanBodySpec& spec);
 // pelvis, chest.
 std::vector<SkeletonJoint> humanSkeleton(const HumanBodySpec& spec);
 
+// The posed segment frames of a spec (its segment_frames, or the angles' forward kinematics).
+BodySegmentFrames bodySegmentFrames(const HumanBodySpec& spec);
+
 // Adds the body's surfaces (named "<name>/<segment>") and skeleton to the scene.
 void addHumanBody(const HumanBodySpec& spec, Scene& scene);
 
 // Reads a spec from a scene-file node (keys documented in config/scenes/standing_person.yaml).
 // Throws std::runtime_error naming the bad key and the accepted values.
 HumanBodySpec humanBodyFromYaml(const YAML::Node& node);
+
+// The scene-file node of a spec (every dimension, angle and material written out), read back by
+// humanBodyFromYaml to the same spec: how tools hand a generated person to a scene file.
+YAML::Node humanBodyToYaml(const HumanBodySpec& spec);
 
 }  // namespace body_scan::sim
