@@ -13,13 +13,23 @@ namespace {
 
 namespace fs = std::filesystem;
 
+fs::path scratchRoot() {
+  return fs::temp_directory_path() / ("test_recognition_report_" + std::to_string(::getpid()));
+}
+
 fs::path scratchFolder(const std::string& name) {
-  const fs::path folder =
-      fs::temp_directory_path() / ("test_recognition_report_" + std::to_string(::getpid())) / name;
+  const fs::path folder = scratchRoot() / name;
   fs::remove_all(folder);
   fs::create_directories(folder);
   return folder;
 }
+
+// Removes the test's scratch files when the run ends.
+class ScratchCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override { fs::remove_all(scratchRoot()); }
+};
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
 
 NamedMetrics toyResult() {
   const std::vector<ProbeResult> probes = {
