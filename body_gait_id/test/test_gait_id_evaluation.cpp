@@ -131,6 +131,25 @@ TEST(GaitIdEvaluation, PeopleWhoseWalkFailedAreLeftOutAndSaidSo) {
   EXPECT_NE(cross.note.find("1 people left out"), std::string::npos) << cross.note;
 }
 
+TEST(GaitIdEvaluation, EnrolmentFromTwoWalks) {
+  // True skeletons (no scan, no fit: instant), 3 people x 3 walks.
+  const SmallRun& run = smallRun();
+  ScanOptions truth;
+  truth.scanner = ScannerKind::kTruth;
+  truth.progress = false;
+  const FittedWalks walks = fitWalks(run.people, 3, truth);
+  std::vector<FeatureRow> rows = thesisRows();
+  rows.resize(2);
+  const std::vector<NamedMetrics> results = crossWalkProtocol(walks, rows, {}, false, 2);
+  print(results);
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_EQ(results[1].name, "3D dynamic+static, 2 gallery walks");
+  EXPECT_EQ(results[1].metrics.enrolled_probes, 60);              // walk 2's eta3 of 3 people
+  EXPECT_DOUBLE_EQ(results[1].metrics.identification.rate, 1.0);  // measured: 60 / 60
+  // The small run fitted 2 walks: not enough for 2 gallery walks and a probe walk.
+  EXPECT_THROW(crossWalkProtocol(run.walks, rows, {}, false, 2), std::invalid_argument);
+}
+
 TEST(GaitIdEvaluation, LearnedProjectionsIdentifyToo) {
   for (FeatureTransform kind : {FeatureTransform::kPca, FeatureTransform::kLda}) {
     std::vector<FeatureRow> rows = thesisRows();

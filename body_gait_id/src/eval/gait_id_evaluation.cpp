@@ -249,27 +249,37 @@ std::vector<FeatureRow> thesisRows() {
 ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row, int gallery_trial,
                         int probe_trial, int enrolled, ProbeFrames frames,
                         const TransformOptions& transform) {
+  return identifyProbes(walks, row, std::vector<int>{gallery_trial}, probe_trial, enrolled, frames,
+                        transform);
+}
+
+ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row,
+                        const std::vector<int>& gallery_trials, int probe_trial, int enrolled,
+                        ProbeFrames frames, const TransformOptions& transform) {
   ProbeSet result;
   std::vector<GalleryPose> gallery;
   std::vector<char> in_gallery(walks.size(), 0);
   for (int person = 0; person < std::min<int>(enrolled, walks.size()); ++person) {
-    const std::optional<WalkCycles> cycles = cyclesOf(walks[person].at(gallery_trial));
-    if (!cycles) {
+    std::vector<WalkCycles> enrolment;
+    for (int trial : gallery_trials)
+      if (std::optional<WalkCycles> cycles = cyclesOf(walks[person].at(trial)))
+        enrolment.push_back(std::move(*cycles));
+    if (enrolment.size() != gallery_trials.size()) {
       ++result.dropped_people;
       continue;
     }
     in_gallery[person] = 1;
     int sequence = 0;
-    for (const body_gait::GaitCycle* cycle : {&cycles->eta1, &cycles->eta2}) {
-      for (int f = 0; f < static_cast<int>(cycle->frames.size()); ++f)
-        gallery.push_back(
-            {subjectId(person), sequence, f + 1, gaitFeatures(cycle->frames[f], row.view)});
-      ++sequence;
-    }
+    for (const WalkCycles& cycles : enrolment)
+      for (const body_gait::GaitCycle* cycle : {&cycles.eta1, &cycles.eta2}) {
+        for (int f = 0; f < static_cast<int>(cycle->frames.size()); ++f)
+          gallery.push_back(
+              {subjectId(person), sequence, f + 1, gaitFeatures(cycle->frames[f], row.view)});
+        ++sequence;
+      }
   }
   if (gallery.empty())
-    throw std::runtime_error("no gallery: no enrolled person's walk " +
-                             std::to_string(gallery_trial) + " could be fitted");
+    throw std::runtime_error("no gallery: no enrolled person's gallery walks could be fitted");
 
   std::optional<Matcher> matcher;
   std::optional<ProjectedRanker> ranker;
@@ -323,22 +333,37 @@ std::vector<NamedMetrics> thesisProtocol(const FittedWalks& walks,
 
 std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
                                             const std::vector<FeatureRow>& rows,
-                                            const TransformOptions& transform, bool per_walk) {
+                                            const TransformOptions& transform, bool per_walk,
+                                            int gallery_walks) {
   std::vector<NamedMetrics> results;
   const int people = static_cast<int>(walks.size());
+  if (gallery_walks < 1)
+    throw std::invalid_argument("gallery_walks must be >= 1, got " + std::to_string(gallery_walks));
+  for (const auto& of_person : walks)
+    if (static_cast<int>(of_person.size()) < gallery_walks + 1)
+      throw std::invalid_argument("the cross-walk protocol with " + std::to_string(gallery_walks) +
+                                  " gallery walk(s) needs " + std::to_string(gallery_walks + 1) +
+                                  " walks per person; fit that many (fitWalks' trials)");
+  std::vector<int> gallery_trials;
+  for (int t = 0; t < gallery_walks; ++t) gallery_trials.push_back(t);
+  const int probe_trial = gallery_walks;
+  const std::string suffix =
+      transformSuffix(transform) + (per_walk ? " per walk" : "") +
+      (gallery_walks > 1 ? ", " + std::to_string(gallery_walks) + " gallery walks" : "");
   auto decided = [per_walk](const ProbeSet& set) {
     return evaluateRecognition(per_walk ? perWalkProbes(set.probes) : set.probes);
   };
   for (const FeatureRow& row : rows) {
-    const ProbeSet closed = identifyProbes(walks, row, 0, 1, people, ProbeFrames::kAll, transform);
+    const ProbeSet closed = identifyProbes(walks, row, gallery_trials, probe_trial, people,
+                                           ProbeFrames::kAll, transform);
     RecognitionMetrics metrics = decided(closed);
     if (people >= 2) {
-      const ProbeSet open =
-          identifyProbes(walks, row, 0, 1, people / 2, ProbeFrames::kAll, transform);
+      const ProbeSet open = identifyProbes(walks, row, gallery_trials, probe_trial, people / 2,
+                                           ProbeFrames::kAll, transform);
       metrics.open_set = decided(open).open_set;
     }
-    results.push_back({row.name + transformSuffix(transform) + (per_walk ? " per walk" : ""),
-                       metrics, std::nullopt, droppedNote(closed.dropped_people)});
+    results.push_back(
+        {row.name + suffix, metrics, std::nullopt, droppedNote(closed.dropped_people)});
   }
   return results;
 }

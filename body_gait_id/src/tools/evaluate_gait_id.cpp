@@ -6,7 +6,7 @@
 //   evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N] [--scanner sampler|full|truth]
 //                    [--columns C] [--noise SIGMA_M] [--threads T] [--cache DIR] [--seed S]
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
-//                    [--probe-frames interpolated|all] [--per-walk 1]
+//                    [--probe-frames interpolated|all] [--per-walk 1] [--gallery-walks N]
 //                    [--report FILE.yaml] [--plot FILE.png] [--quiet 1]
 //                    [--bvh [PERSON=]WALK.bvh,... [--bvh-map MAP.yaml]]
 //
@@ -17,6 +17,8 @@
 //
 // --scanner truth skips scan and fit (models read off the simulator's skeleton): the upper
 // bound of the features on these people, to tell the fitter's share of the errors.
+// --gallery-walks N (cross-walk): enrol every person from walks 0 .. N - 1 (eta1 + eta2 of each),
+// probe with walk N (default 1).
 // --per-walk 1 (cross-walk) adds the 3D rows with one decision per probe walk (the mean of a
 // subject's scores over the walk's 20 frames) beside the per-frame decisions.
 // Thesis protocol: the probes are eta3's 16 interpolated frames per person as in the thesis
@@ -42,7 +44,8 @@ using namespace body_gait_id::eval;
       "default 6, cross-walk 50)] [--scanner sampler|full|truth] [--columns C (>= 20)] "
       "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
       "[--transform none|pca|lda] [--components K] [--rows all|3d] "
-      "[--probe-frames interpolated|all] [--per-walk 1] [--report FILE.yaml] [--plot FILE.png] "
+      "[--probe-frames interpolated|all] [--per-walk 1] [--gallery-walks N] [--report FILE.yaml] "
+      "[--plot FILE.png] "
       "[--quiet 1] [--bvh [PERSON=]WALK.bvh,... [--bvh-map MAP.yaml]]\n",
       problem.c_str());
   std::exit(2);
@@ -65,6 +68,7 @@ int main(int argc, char** argv) {
   TransformOptions transform;
   ProbeFrames probe_frames = ProbeFrames::kInterpolated;
   bool per_walk = false;
+  int gallery_walks = 1;
   std::vector<std::string> bvh_files;
   std::string bvh_map = BODY_SCAN_DRIVER_CONFIG_DIR "/bvh/cmu_joint_map.yaml";
   for (int i = 1; i < argc; ++i) {
@@ -128,6 +132,9 @@ int main(int argc, char** argv) {
       plot_path = value;
     } else if (flag == "--per-walk") {
       per_walk = number(value, flag) != 0;
+    } else if (flag == "--gallery-walks") {
+      gallery_walks = static_cast<int>(number(value, flag));
+      if (gallery_walks < 1 || gallery_walks > 5) usage("--gallery-walks must be 1..5");
     } else if (flag == "--bvh") {
       std::stringstream list(value);
       for (std::string file; std::getline(list, file, ',');) bvh_files.push_back(file);
@@ -140,7 +147,8 @@ int main(int argc, char** argv) {
     }
   }
   const bool cross_walk = protocol == "cross-walk";
-  const int trials = cross_walk ? 2 : 1;
+  if (gallery_walks > 1 && !cross_walk) usage("--gallery-walks is for --protocol cross-walk");
+  const int trials = cross_walk ? gallery_walks + 1 : 1;
   PersonSource people;
   if (!bvh_files.empty()) {
     if (subjects != 0) usage("--subjects and --bvh exclude each other (the files are the people)");
@@ -192,19 +200,19 @@ int main(int argc, char** argv) {
         std::printf("  left out: %s walk %zu: %s\n", people.names[person].c_str(), trial,
                     reason.c_str());
       }
-    results =
-        cross_walk ? crossWalkProtocol(walks, rows) : thesisProtocol(walks, rows, {}, probe_frames);
+    results = cross_walk ? crossWalkProtocol(walks, rows, {}, false, gallery_walks)
+                         : thesisProtocol(walks, rows, {}, probe_frames);
     const std::vector<FeatureRow> rows_3d(rows.begin(), rows.begin() + 2);
     auto add = [&results](std::vector<NamedMetrics> extra) {
       for (NamedMetrics& r : extra) results.push_back(std::move(r));
     };
     if (transform.kind != FeatureTransform::kNone)
-      add(cross_walk ? crossWalkProtocol(walks, rows_3d, transform)
+      add(cross_walk ? crossWalkProtocol(walks, rows_3d, transform, false, gallery_walks)
                      : thesisProtocol(walks, rows_3d, transform, probe_frames));
     if (per_walk && cross_walk) {
-      add(crossWalkProtocol(walks, rows_3d, {}, true));
+      add(crossWalkProtocol(walks, rows_3d, {}, true, gallery_walks));
       if (transform.kind != FeatureTransform::kNone)
-        add(crossWalkProtocol(walks, rows_3d, transform, true));
+        add(crossWalkProtocol(walks, rows_3d, transform, true, gallery_walks));
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "evaluate_gait_id: %s\n", e.what());
@@ -239,6 +247,7 @@ int main(int argc, char** argv) {
   report.settings = {{"protocol", protocol},
                      {"people", bvh_files.empty() ? "simulated" : "motion capture (BVH)"},
                      {"subjects", std::to_string(subjects)},
+                     {"gallery_walks", std::to_string(cross_walk ? gallery_walks : 1)},
                      {"scanner", scanner_name},
                      {"seed", std::to_string(seed)},
                      {"probe_frames", cross_walk                          ? "all (walk 1)"

@@ -99,6 +99,11 @@ struct ProbeSet {
 ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row, int gallery_trial,
                         int probe_trial, int enrolled, ProbeFrames frames,
                         const TransformOptions& transform = {});
+// The same with several gallery walks per person (eta1 and eta2 of each: sequences 2k, 2k + 1);
+// a person any of whose gallery walks failed is left out.
+ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row,
+                        const std::vector<int>& gallery_trials, int probe_trial, int enrolled,
+                        ProbeFrames frames, const TransformOptions& transform = {});
 
 // Thesis protocol (5.8.3): gallery and probes from walk 0 of every person, one result per row.
 // The thesis tests 96 poses of 6 subjects, i.e. the 16 interpolated frames per subject ("not
@@ -112,10 +117,12 @@ std::vector<NamedMetrics> thesisProtocol(const FittedWalks& walks,
 // people (rank-1, CMC, ROC / EER); the open-set figures come from a second run that enrols only
 // the first half of the people and probes with all (the other half must be rejected).
 // per_walk: one decision per probe walk (perWalkProbes: mean frame scores), rows named
-// "... per walk".
+// "... per walk". gallery_walks > 1: enrolment from walks 0 .. gallery_walks - 1 and probes from
+// walk gallery_walks (rows named "..., N gallery walks"); walks must hold that many + 1 trials
+// (std::invalid_argument otherwise).
 std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
                                             const std::vector<FeatureRow>& rows,
                                             const TransformOptions& transform = {},
-                                            bool per_walk = false);
+                                            bool per_walk = false, int gallery_walks = 1);
 
 }  // namespace body_gait_id::eval
