@@ -305,6 +305,14 @@ std::int64_t GalleryDatabase::enroll(const SubjectInfo& info, const std::vector<
   if (poses.empty())
     throw GalleryError("gallery database '" + path_ + "': enrolment of '" + info.name +
                        "' without training poses: give the 4 fitted representative poses");
+  // A NaN would poison the running sums of every later identification.
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const body_gait::BodyModel& m = poses[i].model;
+    if (!m.p.allFinite() || !m.q.allFinite() || !m.r.allFinite())
+      throw GalleryError("gallery database '" + path_ + "': enrolment of '" + info.name +
+                         "' refused: pose " + std::to_string(i + 1) +
+                         " has non-finite values (NaN or inf); fit that scan again");
+  }
   const auto thrower = [this](int code, const std::string& what) { fail(code, what); };
   Transaction transaction(db_, thrower);
   Statement subject(db_,

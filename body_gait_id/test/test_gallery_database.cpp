@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <thread>
 
@@ -171,6 +172,14 @@ TEST_F(GalleryDatabaseTest, BadEnrolmentsAreRefusedAndWriteNothing) {
   GalleryDatabase db(path_);
   EXPECT_THROW(db.enroll({"", "", 0}, {}, trainingPoses(1.7, 1)), GalleryError);
   EXPECT_THROW(db.enroll({"Nobody", "", 0}, {}, {}), GalleryError);
+  std::vector<PoseRecord> poses = trainingPoses(1.7, 1);
+  poses[12].model.q[3] = std::numeric_limits<double>::quiet_NaN();
+  try {
+    db.enroll({"Nan", "", 0}, {}, poses);
+    ADD_FAILURE() << "a NaN pose must be refused";
+  } catch (const GalleryError& e) {
+    EXPECT_NE(std::string(e.what()).find("pose 13 has non-finite"), std::string::npos) << e.what();
+  }
   EXPECT_TRUE(db.subjects().empty());
 }
 
