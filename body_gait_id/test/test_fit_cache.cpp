@@ -68,6 +68,18 @@ TEST(FitCache, DamagedForeignOrOldEntriesAreMisses) {
   EXPECT_FALSE(entry(old).has_value());
   fs::remove_all(folder);
 
+  // A cache that cannot be written is refused at once, naming the folder.
+  const std::string blocked = (folder / "a_file").string();
+  fs::create_directories(folder);
+  std::ofstream(blocked) << "x";
+  try {
+    FitCache unusable(blocked + "/cache");
+    FAIL() << "a folder under a file must be refused";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(blocked), std::string::npos) << e.what();
+  }
+  fs::remove_all(folder);
+
   const FitCache disabled;
   disabled.store(key, someFit());
   EXPECT_FALSE(disabled.load(key).has_value());
@@ -88,6 +100,13 @@ TEST(FitCache, KeyChangesWithSpecAndScanner) {
   moved = spec;
   moved.materials.hair.albedo = 0.05;
   EXPECT_NE(scanKey(moved, "sampler"), key);
+  // Bodies posed by explicit frames (motion capture, issue 7) differ by their frames alone.
+  moved = spec;
+  moved.segment_frames = body_scan::sim::bodySegmentFrames(spec);
+  const std::string framed = scanKey(moved, "sampler");
+  EXPECT_NE(framed, key);
+  moved.segment_frames->foot[0].origin.x() += 1e-9;
+  EXPECT_NE(scanKey(moved, "sampler"), framed);
 }
 
 }  // namespace

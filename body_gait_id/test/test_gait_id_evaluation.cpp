@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 namespace body_gait_id::eval {
@@ -112,6 +113,24 @@ TEST(GaitIdEvaluation, CrossWalkProtocolOnThreePeople) {
   EXPECT_EQ(both.open_set->fpir.n, 40);
 }
 
+TEST(GaitIdEvaluation, PeopleWhoseWalkFailedAreLeftOutAndSaidSo) {
+  FittedWalks walks = smallRun().walks;
+  walks[1][0].reset();  // person 1's gallery walk could not be fitted
+  std::vector<FeatureRow> rows = thesisRows();
+  rows.resize(1);
+  const NamedMetrics result = thesisProtocol(walks, rows)[0];
+  EXPECT_EQ(result.metrics.enrolled_probes, 32);  // 2 people x 16
+  ASSERT_EQ(result.metrics.cmc.size(), 2u);       // 2 enrolled subjects
+  EXPECT_NE(result.note.find("1 people left out"), std::string::npos) << result.note;
+  // Cross-walk: person 2's probe walk missing leaves 2 people's probes; the gallery keeps 3.
+  walks = smallRun().walks;
+  walks[2][1].reset();
+  const NamedMetrics cross = crossWalkProtocol(walks, rows)[0];
+  EXPECT_EQ(cross.metrics.enrolled_probes, 40);
+  EXPECT_EQ(cross.metrics.cmc.size(), 3u);
+  EXPECT_NE(cross.note.find("1 people left out"), std::string::npos) << cross.note;
+}
+
 TEST(GaitIdEvaluation, LearnedProjectionsIdentifyToo) {
   for (FeatureTransform kind : {FeatureTransform::kPca, FeatureTransform::kLda}) {
     std::vector<FeatureRow> rows = thesisRows();
@@ -123,6 +142,39 @@ TEST(GaitIdEvaluation, LearnedProjectionsIdentifyToo) {
     EXPECT_EQ(results[1].name, "3D dynamic+static" + suffix);
     EXPECT_GE(results[1].metrics.identification.rate, 0.9) << results[1].name;
   }
+}
+
+// Issue 7: the CMU walks (../shared/data/bvh; skipped when absent) as the people, models read
+// off their skeletons (no scan, no fit: fast, and the upper bound of the features on real
+// walks). Every probe frame of another walk finds its person; a person with one walk is refused.
+TEST(GaitIdEvaluation, MotionCaptureWalksAsPeople) {
+  const char* dir = std::getenv("BODY_SCAN_BVH_DIR");
+  const std::string bvh = dir ? dir : BODY_SCAN_BVH_DIR;
+  if (!std::filesystem::exists(bvh + "/07_02.bvh"))
+    GTEST_SKIP() << "CMU walks not found in " << bvh << " (set BODY_SCAN_BVH_DIR)";
+  const std::string map = BODY_SCAN_DRIVER_CONFIG_DIR "/bvh/cmu_joint_map.yaml";
+  std::vector<std::string> files;
+  for (const char* walk : {"07_02", "07_08", "08_03", "08_08", "35_01", "35_02"})
+    files.push_back(bvh + "/" + walk + ".bvh");
+  std::vector<std::string> picked;
+  const PersonSource people = bvhPeople(files, map, 2, &picked);
+  EXPECT_EQ(people.names, (std::vector<std::string>{"07", "08", "35"}));
+  ASSERT_EQ(picked.size(), 6u);
+  EXPECT_EQ(picked[0], "07_02 (person 07, walk 0): poses 1-4 at frames 11 39 75 108");
+  // The pose faces the heading it is given (the BVH body's front is +x at heading 0).
+  const body_scan::sim::HumanBodySpec turned = people.spec(0, 1, 1, 0.5);
+  EXPECT_DOUBLE_EQ(turned.pose.heading, 0.5);
+  ScanOptions options;
+  options.scanner = ScannerKind::kTruth;
+  options.progress = false;
+  const FittedWalks walks = fitWalks(people, 2, options);
+  const std::vector<NamedMetrics> results = crossWalkProtocol(walks, thesisRows());
+  print(results);
+  const RecognitionMetrics& both = row(results, "3D dynamic+static").metrics;
+  EXPECT_EQ(both.enrolled_probes, 60);
+  EXPECT_DOUBLE_EQ(both.identification.rate, 1.0);  // measured 60 / 60
+  EXPECT_DOUBLE_EQ(row(results, "3D dynamic").metrics.identification.rate, 1.0);
+  EXPECT_THROW(bvhPeople({files[0], files[2], files[3]}, map, 2), std::runtime_error);
 }
 
 }  // namespace

@@ -27,7 +27,7 @@ NamedMetrics toyResult() {
       {2, 4, true, {{1, 4, 0.3}, {2, 4, 0.4}}},  // wrong at rank 1
       {3, 1, false, {{2, 1, 0.2}, {1, 1, 0.7}}},
   };
-  return {"3D dynamic", evaluateRecognition(probes), ThesisFigures{98.96, 0.41}};
+  return {"3D dynamic", evaluateRecognition(probes), ThesisFigures{98.96, 0.41}, "a note"};
 }
 
 bool near(const cv::Vec3b& pixel, const cv::Scalar& colour, int tolerance) {
@@ -50,6 +50,7 @@ TEST(RecognitionReport, YamlReadsBackTheFigures) {
   EXPECT_EQ(root["settings"]["protocol"].as<std::string>(), "thesis");
   const YAML::Node result = root["results"][0];
   EXPECT_EQ(result["name"].as<std::string>(), "3D dynamic");
+  EXPECT_EQ(result["note"].as<std::string>(), "a note");
   EXPECT_DOUBLE_EQ(result["identification_rate"]["rate"].as<double>(), 0.5);
   EXPECT_EQ(result["identification_rate"]["n"].as<int>(), 2);
   EXPECT_EQ(result["identification_rate"]["ci95"].size(), 2u);
@@ -99,7 +100,11 @@ TEST(RecognitionPlot, CurvesAreDrawnWhereTheDataPutsThem) {
   writePng(path.string(), plotPanels(panels));
   const cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
   ASSERT_FALSE(image.empty()) << path;
-  EXPECT_EQ(image.cols, 2 * image.rows * 520 / 420);
+  EXPECT_EQ(image.cols, 2 * 520);
+  EXPECT_GT(image.rows, 420);  // the panels and one legend row below them
+  // Legend below the second panel: its first entry's line sample in the first curve's colour.
+  EXPECT_TRUE(near(image.at<cv::Vec3b>(420 + 12 - 4, 520 + 20 + 10), curveColour(0), 30));
+  EXPECT_TRUE(near(image.at<cv::Vec3b>(420 + 12 - 4, 520 + 20 + 260 + 10), curveColour(1), 30));
   // On the curves, away from ticks and points: the curve's colour.
   EXPECT_TRUE(near(image.at<cv::Vec3b>(plotPixel(panels, 0, 2.5, 0.6)), curveColour(0), 30));
   EXPECT_TRUE(near(image.at<cv::Vec3b>(plotPixel(panels, 1, 0.4, 0.4)), curveColour(0), 30));

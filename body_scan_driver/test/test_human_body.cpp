@@ -336,6 +336,37 @@ TEST(HumanBodyFromYaml, ReadsOverridesPoseAndMaterials) {
   EXPECT_NEAR((joints.at("left_hip") - joints.at("left_knee")).norm(), 0.45, 1e-9);
 }
 
+TEST(HumanBodyToYaml, WritesWhatTheReaderReadsBack) {
+  HumanBodySpec spec;
+  spec.name = "ann";
+  spec.body = Anthropometry::fromStature(1.62);
+  spec.body.thigh_length = 0.41;
+  spec.body.calf_girth = 0.352;
+  spec.position = {0.1, -0.2, 0};
+  spec.pose.heading = 0.3;
+  spec.pose.right_hip_flexion = 0.41;
+  spec.pose.left_knee_flexion = 0.27;
+  spec.materials.hair.albedo = 0.07;
+  spec.materials.skin.color = {0.7, 0.5, 0.4};
+  // Through text, as a scene file would carry it.
+  const HumanBodySpec back = humanBodyFromYaml(YAML::Load(YAML::Dump(humanBodyToYaml(spec))));
+  EXPECT_EQ(back.name, "ann");
+  EXPECT_NEAR(back.body.thigh_length, 0.41, 1e-12);
+  EXPECT_NEAR(back.body.calf_girth, 0.352, 1e-12);
+  EXPECT_NEAR(back.body.shank_length, spec.body.shank_length, 1e-12);
+  EXPECT_TRUE(back.position.isApprox(spec.position, 1e-12));
+  EXPECT_NEAR(back.pose.heading, 0.3, 1e-12);
+  EXPECT_NEAR(back.pose.right_hip_flexion, 0.41, 1e-12);
+  EXPECT_NEAR(back.pose.left_knee_flexion, 0.27, 1e-12);
+  EXPECT_NEAR(back.pose.left_shoulder_abduction, spec.pose.left_shoulder_abduction, 1e-12);
+  EXPECT_NEAR(back.materials.hair.albedo, 0.07, 1e-12);
+  EXPECT_TRUE(back.materials.skin.color.isApprox(spec.materials.skin.color, 1e-12));
+  // The same body: every true joint in the same place.
+  const auto joints = skeleton(spec), joints_back = skeleton(back);
+  for (const auto& [name, position] : joints)
+    EXPECT_LT((joints_back.at(name) - position).norm(), 1e-9) << name;
+}
+
 void expectErrorMentioning(const std::string& yaml, const std::vector<std::string>& words) {
   try {
     humanBodyFromYaml(YAML::Load(yaml));

@@ -1,6 +1,7 @@
-// Cross-walk identification (cross_walk.h).
+// Cross-walk identification (cross_walk.h), on the evaluation's identifyProbes (one gallery and
+// matcher path for every protocol).
 #include <body_gait_id/eval/cross_walk.h>
-#include <body_gait_id/matcher.h>
+#include <body_gait_id/eval/gait_id_evaluation.h>
 
 #include <algorithm>
 #include <map>
@@ -10,7 +11,7 @@ namespace body_gait_id::eval {
 
 CrossWalkResult identifyAcrossWalks(const std::vector<WalkModels>& walks, FeatureSet set,
                                     View view) {
-  // People in order of first appearance, each with its walks in input order.
+  // People in order of first appearance, each with its walks in input order: fitted[person][t].
   std::vector<std::string> people;
   std::map<std::string, std::vector<const WalkModels*>> walks_of;
   for (const WalkModels& walk : walks) {
@@ -27,49 +28,46 @@ CrossWalkResult identifyAcrossWalks(const std::vector<WalkModels>& walks, Featur
                                   "' has 1 walk; every person needs 2 or more (gallery + probe)");
     rounds = std::max(rounds, list.size());
   }
+  FittedWalks fitted(people.size(),
+                     std::vector<std::optional<body_gait::RepresentativePoses>>(rounds));
+  auto walkName = [&](size_t person, size_t trial) {
+    const auto& list = walks_of[people[person]];
+    return trial < list.size() ? list[trial]->walk : std::string();
+  };
+  for (size_t person = 0; person < people.size(); ++person)
+    for (size_t t = 0; t < walks_of[people[person]].size(); ++t)
+      fitted[person][t] = walks_of[people[person]][t]->poses;
 
+  const FeatureRow row{"cross-walk", view, set, std::nullopt};
   CrossWalkResult result;
   std::vector<ProbeResult> probes;
-  for (size_t round = 0; round < rounds; ++round) {
-    std::vector<GalleryPose> gallery;
+  for (size_t gallery = 0; gallery < rounds; ++gallery) {
     std::vector<std::string> gallery_walks;
-    for (size_t id = 0; id < people.size(); ++id) {
-      const auto& list = walks_of[people[id]];
-      const WalkModels& enrolled = *list[round % list.size()];
-      gallery_walks.push_back(enrolled.walk);
-      const body_gait::GaitSet kTraining[] = {body_gait::GaitSet::kEta1, body_gait::GaitSet::kEta2};
-      for (int sequence = 0; sequence < 2; ++sequence) {
-        const body_gait::GaitCycle cycle = body_gait::reconstructGaitCycle(
-            body_gait::gaitSet(enrolled.poses, kTraining[sequence]));
-        for (int f = 0; f < body_gait::kGaitCycleFrames; ++f)
-          gallery.push_back(
-              {std::int64_t(id), sequence, f + 1, gaitFeatures(cycle.frames[f], view)});
+    for (size_t person = 0; person < people.size(); ++person)
+      if (!walkName(person, gallery).empty()) gallery_walks.push_back(walkName(person, gallery));
+    for (size_t probe = 0; probe < rounds; ++probe) {
+      if (probe == gallery) continue;
+      const ProbeSet set_of_round = identifyProbes(fitted, row, int(gallery), int(probe),
+                                                   int(people.size()), ProbeFrames::kAll);
+      // One entry per probed walk: its frames right and the person most of them chose.
+      std::map<std::int64_t, std::vector<int>> votes;  // true subject -> votes per person
+      std::map<std::int64_t, int> right;
+      for (const ProbeResult& p : set_of_round.probes) {
+        std::vector<int>& v = votes[p.true_subject];
+        v.resize(people.size(), 0);
+        const std::int64_t chosen = p.candidates.front().subject_id;
+        ++v[chosen - 1];  // subject ids are person + 1
+        right[p.true_subject] += chosen == p.true_subject;
+        probes.push_back(p);
       }
-    }
-    const Matcher matcher(gallery, set);
-    for (size_t id = 0; id < people.size(); ++id) {
-      const auto& list = walks_of[people[id]];
-      for (size_t w = 0; w < list.size(); ++w) {
-        if (w == round % list.size()) continue;
+      for (const auto& [subject, v] : votes) {
+        const size_t person = size_t(subject - 1);
         WalkIdentification identified;
-        identified.probe_walk = list[w]->walk;
-        identified.person = people[id];
+        identified.probe_walk = walkName(person, probe);
+        identified.person = people[person];
         identified.gallery_walks = gallery_walks;
-        std::vector<int> votes(people.size(), 0);
-        const body_gait::GaitCycle cycle = body_gait::reconstructGaitCycle(
-            body_gait::gaitSet(list[w]->poses, body_gait::GaitSet::kEta3));
-        for (int f = 0; f < body_gait::kGaitCycleFrames; ++f) {
-          ProbeResult probe;
-          probe.true_subject = std::int64_t(id);
-          probe.true_frame = f + 1;
-          for (const Match& match : matcher.rankSubjects(gaitFeatures(cycle.frames[f], view)))
-            probe.candidates.push_back({match.subject_id, match.frame, match.score});
-          ++votes[probe.candidates.front().subject_id];
-          identified.frames_right += probe.candidates.front().subject_id == std::int64_t(id);
-          probes.push_back(probe);
-        }
-        identified.voted_person =
-            people[std::max_element(votes.begin(), votes.end()) - votes.begin()];
+        identified.frames_right = right[subject];
+        identified.voted_person = people[std::max_element(v.begin(), v.end()) - v.begin()];
         result.walks_right += identified.voted_person == identified.person;
         result.walks.push_back(identified);
       }

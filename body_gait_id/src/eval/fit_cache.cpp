@@ -16,6 +16,7 @@ constexpr int kCacheVersion = 1;
 static_assert(sizeof(body_scan::sim::Anthropometry) % sizeof(double) == 0);
 static_assert(sizeof(body_scan::sim::BodyPose) % sizeof(double) == 0);
 static_assert(sizeof(body_scan::sim::BodyMaterials) % sizeof(double) == 0);
+static_assert(sizeof(body_scan::sim::BodySegmentFrames) % sizeof(double) == 0);
 
 void fnv1a(std::uint64_t& hash, const void* data, std::size_t size) {
   const auto* bytes = static_cast<const unsigned char*>(data);
@@ -42,13 +43,22 @@ std::string scanKey(const body_scan::sim::HumanBodySpec& spec, const std::string
   fnv1a(hash, &spec.pose, sizeof(spec.pose));
   fnv1a(hash, &spec.materials, sizeof(spec.materials));
   fnv1a(hash, spec.position.data(), sizeof(double) * 3);
+  // A body posed by explicit frames (motion capture) differs by its frames; bodies posed by
+  // angles keep their keys.
+  if (spec.segment_frames) fnv1a(hash, &*spec.segment_frames, sizeof(*spec.segment_frames));
   fnv1a(hash, scanner.data(), scanner.size());
   char text[17];
   std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash));
   return text;
 }
 
-FitCache::FitCache(std::string folder) : folder_(std::move(folder)) {}
+FitCache::FitCache(std::string folder) : folder_(std::move(folder)) {
+  if (folder_.empty()) return;
+  const std::string probe = folder_ + "/.write_test";
+  body_scan::writeFileAtomically(probe, "");  // creates the folder, or says why it cannot
+  std::error_code ignored;
+  std::filesystem::remove(probe, ignored);
+}
 
 std::string FitCache::pathOf(const std::string& key) const {
   return folder_ + "/fit_" + key + ".yaml";

@@ -6,12 +6,15 @@
 #include <body_gait_model/eval/full_scanner_body.h>
 #include <body_gait_model/eval/skeleton_model.h>
 #include <body_scan_driver/atomic_file.h>
+#include <body_scan_driver/sim/bvh_body.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -119,6 +122,12 @@ class ProjectedRanker {
   Eigen::MatrixXd projected_;
   std::vector<std::pair<std::int64_t, int>> ids_;  // subject, frame
 };
+
+std::string droppedNote(int dropped_people) {
+  if (dropped_people == 0) return "";
+  return std::to_string(dropped_people) +
+         " people left out: a walk could not be fitted or gave no forward stride";
+}
 
 std::string transformSuffix(const TransformOptions& transform) {
   switch (transform.kind) {
@@ -274,7 +283,7 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row, int gal
     if (enrolled_person && !in_gallery[person]) continue;  // dropped above
     const std::optional<WalkCycles> cycles = cyclesOf(walks[person].at(probe_trial));
     if (!cycles) {
-      if (!enrolled_person) ++result.dropped_people;
+      ++result.dropped_people;  // no probes from this person
       continue;
     }
     for (int f = 0; f < static_cast<int>(cycles->eta3.frames.size()); ++f) {
@@ -306,8 +315,8 @@ std::vector<NamedMetrics> thesisProtocol(const FittedWalks& walks,
   for (const FeatureRow& row : rows) {
     const ProbeSet set =
         identifyProbes(walks, row, 0, 0, static_cast<int>(walks.size()), frames, transform);
-    results.push_back(
-        {row.name + transformSuffix(transform), evaluateRecognition(set.probes), row.thesis});
+    results.push_back({row.name + transformSuffix(transform), evaluateRecognition(set.probes),
+                       row.thesis, droppedNote(set.dropped_people)});
   }
   return results;
 }
@@ -329,9 +338,58 @@ std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
       metrics.open_set = decided(open).open_set;
     }
     results.push_back({row.name + transformSuffix(transform) + (per_walk ? " per walk" : ""),
-                       metrics, std::nullopt});
+                       metrics, std::nullopt, droppedNote(closed.dropped_people)});
   }
   return results;
+}
+
+PersonSource bvhPeople(const std::vector<std::string>& items, const std::string& joint_map,
+                       int trials, std::vector<std::string>* picked) {
+  namespace sim = body_scan::sim;
+  struct Walk {
+    std::shared_ptr<const sim::BvhSubject> subject;
+    sim::GaitPoseFrames poses;
+  };
+  const sim::BvhJointMap map = sim::loadBvhJointMap(joint_map);
+  auto walks = std::make_shared<std::vector<std::vector<Walk>>>();  // [person][trial]
+  PersonSource people;
+  std::map<std::string, size_t> index;
+  for (const std::string& item : items) {
+    const size_t equals = item.find('=');
+    const std::string file = equals == std::string::npos ? item : item.substr(equals + 1);
+    const std::string walk = std::filesystem::path(file).stem().string();
+    const std::string person =
+        equals == std::string::npos ? walk.substr(0, walk.find('_')) : item.substr(0, equals);
+    if (!index.count(person)) {
+      index[person] = people.names.size();
+      people.names.push_back(person);
+      walks->emplace_back();
+    }
+    Walk w;
+    w.subject = std::make_shared<const sim::BvhSubject>(sim::loadBvh(file), map, walk);
+    w.poses = sim::pickGaitPoses(*w.subject);
+    std::vector<Walk>& of_person = (*walks)[index[person]];
+    if (picked) {
+      char line[200];
+      std::snprintf(line, sizeof(line), "%s (person %s, walk %zu): poses 1-4 at frames %d %d %d %d",
+                    walk.c_str(), person.c_str(), of_person.size(), w.poses.frame[0] + 1,
+                    w.poses.frame[1] + 1, w.poses.frame[2] + 1, w.poses.frame[3] + 1);
+      picked->push_back(line);
+    }
+    of_person.push_back(w);
+  }
+  for (size_t i = 0; i < people.names.size(); ++i)
+    if (int((*walks)[i].size()) < trials)
+      throw std::runtime_error(
+          "person '" + people.names[i] + "' has " + std::to_string((*walks)[i].size()) +
+          " walk(s); the protocol needs " + std::to_string(trials) + " (give more BVH files)");
+  people.spec = [walks](int person, int pose, int trial, double heading) {
+    const Walk& walk = (*walks)[person][trial];
+    sim::HumanBodySpec spec = walk.subject->body(walk.poses.frame[pose - 1]);
+    sim::moveBody(spec, heading, Eigen::Vector3d::Zero());
+    return spec;
+  };
+  return people;
 }
 
 }  // namespace body_gait_id::eval

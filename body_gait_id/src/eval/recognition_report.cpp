@@ -31,6 +31,7 @@ void emitMetrics(YAML::Emitter& out, const NamedMetrics& named) {
   out << YAML::Key << "average_pose_error_frames" << YAML::Value << m.average_pose_error;
   out << YAML::Key << "average_cyclic_pose_error_frames" << YAML::Value
       << m.average_cyclic_pose_error;
+  if (!named.note.empty()) out << YAML::Key << "note" << YAML::Value << named.note;
   if (named.thesis) {
     out << YAML::Key << "thesis" << YAML::Value << YAML::Flow << YAML::BeginMap;
     out << YAML::Key << "identification_rate_percent" << YAML::Value
@@ -120,6 +121,7 @@ std::string recognitionTable(const std::vector<NamedMetrics>& results) {
                     r.thesis->average_pose_error_frames);
       table += line;
     }
+    if (!r.note.empty()) table += "  (" + r.note + ")";
     table += "\n";
   }
   return table;
@@ -130,6 +132,7 @@ namespace {
 
 constexpr int kPanelWidth = 520, kPanelHeight = 420;
 constexpr int kLeft = 70, kRight = 20, kTop = 40, kBottom = 60;  // margins inside a panel
+constexpr int kLegendRow = 18;                                   // below the panels
 
 std::string tickLabel(double value) {
   char text[32];
@@ -156,9 +159,9 @@ std::vector<double> ticksOf(const std::vector<double>& given, double low, double
 cv::Scalar curveColour(int index) {
   // BGR, told apart in print and by most colour-blind readers (Okabe-Ito order) plus greys.
   static const cv::Scalar kColours[] = {
-      {178, 114, 0},  {0, 94, 213},   {115, 158, 0}, {167, 121, 204}, {0, 159, 230},
-      {233, 180, 86}, {66, 228, 240}, {0, 0, 0},     {120, 120, 120}, {40, 40, 160}};
-  return kColours[index % 10];
+      {178, 114, 0},  {0, 94, 213}, {115, 158, 0},   {167, 121, 204}, {0, 159, 230}, {233, 180, 86},
+      {66, 228, 240}, {0, 0, 0},    {120, 120, 120}, {40, 40, 160},   {160, 160, 0}, {90, 0, 160}};
+  return kColours[index % 12];
 }
 
 cv::Point plotPixel(const std::vector<PlotPanel>& panels, int panel, double x, double y) {
@@ -175,8 +178,12 @@ cv::Point plotPixel(const std::vector<PlotPanel>& panels, int panel, double x, d
 
 cv::Mat plotPanels(const std::vector<PlotPanel>& panels) {
   const cv::Scalar black(0, 0, 0), grey(215, 215, 215);
-  cv::Mat image(kPanelHeight, std::max<int>(1, panels.size()) * kPanelWidth, CV_8UC3,
-                cv::Scalar(255, 255, 255));
+  // Legends go below the panels, two entries per row, so they never hide a curve.
+  std::size_t most_curves = 0;
+  for (const PlotPanel& p : panels) most_curves = std::max(most_curves, p.curves.size());
+  const int legend_rows = static_cast<int>(most_curves + 1) / 2;
+  cv::Mat image(kPanelHeight + kLegendRow * legend_rows + (legend_rows > 0 ? 8 : 0),
+                std::max<int>(1, panels.size()) * kPanelWidth, CV_8UC3, cv::Scalar(255, 255, 255));
   auto text = [&](const std::string& s, cv::Point at, double scale) {
     cv::putText(image, s, at, cv::FONT_HERSHEY_SIMPLEX, scale, black, 1, cv::LINE_AA);
   };
@@ -210,11 +217,10 @@ cv::Mat plotPanels(const std::vector<PlotPanel>& panels) {
       if (polyline.size() > 1) cv::polylines(image, polyline, false, colour, 2, cv::LINE_AA);
       if (polyline.size() <= 30)  // markers where the points are few enough to tell apart
         for (const cv::Point& point : polyline) cv::circle(image, point, 3, colour, cv::FILLED);
-      // Legend: bottom right inside the frame, one line per curve.
-      const int row = bottom_right.y - 12 - 18 * (static_cast<int>(p.curves.size()) - 1 - c);
-      const int column = bottom_right.x - 200;
+      const int row = kPanelHeight + kLegendRow * (c / 2) + 12;
+      const int column = i * kPanelWidth + 20 + (c % 2) * (kPanelWidth / 2);
       cv::line(image, {column, row - 4}, {column + 20, row - 4}, colour, 2);
-      text(curve.label, {column + 26, row}, 0.42);
+      text(curve.label, {column + 26, row}, 0.4);
     }
   }
   return image;

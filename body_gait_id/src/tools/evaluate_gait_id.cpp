@@ -8,6 +8,12 @@
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
 //                    [--probe-frames interpolated|all] [--per-walk 1]
 //                    [--report FILE.yaml] [--plot FILE.png] [--quiet 1]
+//                    [--bvh [PERSON=]WALK.bvh,... [--bvh-map MAP.yaml]]
+//
+// --bvh (issue 7): the people are motion-capture walks instead of simulated people; walk t of a
+// person is trial t (the cross-walk protocol needs 2 walks per person), its 4 poses are the ones
+// body_scan_driver's pickGaitPoses finds; PERSON defaults to the file name up to its first '_'
+// (CMU: 07_02.bvh -> 07). --bvh-map: the joint map (default: the CMU map of body_scan_driver).
 //
 // --scanner truth skips scan and fit (models read off the simulator's skeleton): the upper
 // bound of the features on these people, to tell the fitter's share of the errors.
@@ -21,6 +27,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <sstream>
 #include <string>
 
 namespace {
@@ -36,7 +43,7 @@ using namespace body_gait_id::eval;
       "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
       "[--transform none|pca|lda] [--components K] [--rows all|3d] "
       "[--probe-frames interpolated|all] [--per-walk 1] [--report FILE.yaml] [--plot FILE.png] "
-      "[--quiet 1]\n",
+      "[--quiet 1] [--bvh [PERSON=]WALK.bvh,... [--bvh-map MAP.yaml]]\n",
       problem.c_str());
   std::exit(2);
 }
@@ -58,6 +65,8 @@ int main(int argc, char** argv) {
   TransformOptions transform;
   ProbeFrames probe_frames = ProbeFrames::kInterpolated;
   bool per_walk = false;
+  std::vector<std::string> bvh_files;
+  std::string bvh_map = BODY_SCAN_DRIVER_CONFIG_DIR "/bvh/cmu_joint_map.yaml";
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--help" || flag == "-h") usage("evaluates gait identification");
@@ -119,6 +128,11 @@ int main(int argc, char** argv) {
       plot_path = value;
     } else if (flag == "--per-walk") {
       per_walk = number(value, flag) != 0;
+    } else if (flag == "--bvh") {
+      std::stringstream list(value);
+      for (std::string file; std::getline(list, file, ',');) bvh_files.push_back(file);
+    } else if (flag == "--bvh-map") {
+      bvh_map = value;
     } else if (flag == "--quiet") {
       scan.progress = number(value, flag) == 0;
     } else {
@@ -126,25 +140,58 @@ int main(int argc, char** argv) {
     }
   }
   const bool cross_walk = protocol == "cross-walk";
+  const int trials = cross_walk ? 2 : 1;
+  PersonSource people;
+  if (!bvh_files.empty()) {
+    if (subjects != 0) usage("--subjects and --bvh exclude each other (the files are the people)");
+    try {
+      std::vector<std::string> picked;
+      people = bvhPeople(bvh_files, bvh_map, trials, &picked);
+      for (const std::string& line : picked) std::printf("%s\n", line.c_str());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "evaluate_gait_id: %s\n", e.what());
+      return 1;
+    }
+    subjects = int(people.names.size());
+  }
   if (subjects == 0) subjects = cross_walk ? 50 : 6;
   if (subjects < 2) usage("--subjects must be >= 2 (identification needs a choice)");
   if (scan.sampler_columns < 20) usage("--columns must be >= 20");
   if (scan.threads < 1 || scan.threads > 16) usage("--threads must be 1..16");
 
-  const std::vector<body_gait::eval::SimulatedPerson> persons =
-      body_gait::eval::simulatedPeople(subjects, seed);
-  PersonSource people;
-  for (const auto& person : persons) people.names.push_back(person.name);
-  people.spec = [&persons](int person, int pose, int trial, double heading) {
-    return body_gait::eval::walkingSubject(persons[person], pose, trial, heading);
-  };
+  std::vector<body_gait::eval::SimulatedPerson> persons;
+  if (bvh_files.empty()) {
+    persons = body_gait::eval::simulatedPeople(subjects, seed);
+    for (const auto& person : persons) people.names.push_back(person.name);
+    people.spec = [&persons](int person, int pose, int trial, double heading) {
+      return body_gait::eval::walkingSubject(persons[person], pose, trial, heading);
+    };
+  }
 
   std::vector<FeatureRow> rows = thesisRows();
   if (rows_choice == "3d") rows.resize(2);
   FitSummary summary;
   std::vector<NamedMetrics> results;
   try {
-    const FittedWalks walks = fitWalks(people, cross_walk ? 2 : 1, scan, &summary);
+    const FittedWalks walks = fitWalks(people, trials, scan, &summary);
+    // Walks the protocols leave out: a pose not fitted, or fits with no forward stride (the gait
+    // cycle cannot be rebuilt). Their people are not counted in the rates below.
+    for (size_t person = 0; person < walks.size(); ++person)
+      for (size_t trial = 0; trial < walks[person].size(); ++trial) {
+        std::string reason = "a pose was not fitted";
+        if (const auto& poses = walks[person][trial]) {
+          try {
+            for (const auto set :
+                 {body_gait::GaitSet::kEta1, body_gait::GaitSet::kEta2, body_gait::GaitSet::kEta3})
+              body_gait::reconstructGaitCycle(body_gait::gaitSet(*poses, set));
+            continue;
+          } catch (const std::invalid_argument& e) {
+            reason = e.what();
+          }
+        }
+        std::printf("  left out: %s walk %zu: %s\n", people.names[person].c_str(), trial,
+                    reason.c_str());
+      }
     results =
         cross_walk ? crossWalkProtocol(walks, rows) : thesisProtocol(walks, rows, {}, probe_frames);
     const std::vector<FeatureRow> rows_3d(rows.begin(), rows.begin() + 2);
@@ -190,6 +237,7 @@ int main(int argc, char** argv) {
 
   RecognitionReport report;
   report.settings = {{"protocol", protocol},
+                     {"people", bvh_files.empty() ? "simulated" : "motion capture (BVH)"},
                      {"subjects", std::to_string(subjects)},
                      {"scanner", scanner_name},
                      {"seed", std::to_string(seed)},

@@ -7,6 +7,7 @@
 //                     [--test-headings 1] [--per-joint 1] [--full-scanner 1]
 //                     [--missing-pairs pole_c/pair_2,...] [--only SUBJECT]
 //                     [--clouds DIR] [--rig RIG.yaml] [--dark-albedo A] [--people N]
+//                     [--lean-deg D]
 //                     [--out report.yaml]
 //
 // After the summary: per joint the mean error and mean offset (fitted - true) in the true body
@@ -21,7 +22,8 @@
 // --only runs one subject (e.g. subject_9); --clouds writes every case's cloud to
 // DIR/<subject>_pose<k>.ply (world frame) for a look in rviz or a viewer. --people N fits
 // simulatedPeople(N) (eval/gait_subjects.h: survey-drawn bodies, personal gait styles; walk 0)
-// instead of simulatedSubjects (--abduction-deg does not apply to them).
+// instead of simulatedSubjects. --lean-deg D sets every simulated body's forward torso lean
+// (simulatedSubjects stand upright, simulatedPeople lean by their style, ~3 +- 2 deg).
 //
 // Motion-capture subjects (issue 7): --bvh [PERSON=]WALK.bvh,... replaces the simulated subjects
 // by real walks: in each walk the 4 poses of 5.3 are picked (body_scan_driver's pickGaitPoses),
@@ -57,15 +59,16 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 [[noreturn]] void usage(const std::string& problem) {
-  std::fprintf(stderr,
-               "evaluate_body_fit: %s\nusage: evaluate_body_fit [--subjects N (>= 1)] [--columns "
-               "C (ray grid per viewpoint, >= 20)] [--noise SIGMA_M] [--min-albedo A] "
-               "[--missing-viewpoints i,j] [--abduction-deg D] [--direct 1] [--test-headings 1] "
-               "[--per-joint 1] [--full-scanner 1] [--missing-pairs id,id] [--only SUBJECT] "
-               "[--clouds DIR] [--rig RIG.yaml] [--people N] [--bvh [PERSON=]WALK.bvh,...] "
-               "[--bvh-map MAP.yaml] "
-               "[--models DIR] [--out report.yaml]\n",
-               problem.c_str());
+  std::fprintf(
+      stderr,
+      "evaluate_body_fit: %s\nusage: evaluate_body_fit [--subjects N (>= 1)] [--columns "
+      "C (ray grid per viewpoint, >= 20)] [--noise SIGMA_M] [--min-albedo A] "
+      "[--missing-viewpoints i,j] [--abduction-deg D] [--direct 1] [--test-headings 1] "
+      "[--per-joint 1] [--full-scanner 1] [--missing-pairs id,id] [--only SUBJECT] "
+      "[--clouds DIR] [--rig RIG.yaml] [--people N] [--lean-deg D] [--bvh [PERSON=]WALK.bvh,...] "
+      "[--bvh-map MAP.yaml] "
+      "[--models DIR] [--out report.yaml]\n",
+      problem.c_str());
   std::exit(2);
 }
 
@@ -176,6 +179,7 @@ int main(int argc, char** argv) {
   int people = 0;  // > 0: simulatedPeople instead of simulatedSubjects
   std::string out;
   double abduction_deg = -1;
+  double lean_deg = -100;  // > -90: every simulated body's forward torso lean (deg)
   bool test_headings = false, per_joint = false, full_scanner = false;
   body_gait::eval::FullScannerOptions scanner;
   std::string only, clouds, models_out, picture;
@@ -208,6 +212,9 @@ int main(int argc, char** argv) {
       while (std::getline(list, item, ',')) rig.missing_viewpoints.push_back(std::stoi(item));
     } else if (flag == "--abduction-deg") {
       abduction_deg = number(value, flag);
+    } else if (flag == "--lean-deg") {
+      lean_deg = number(value, flag);
+      if (!(lean_deg > -90 && lean_deg < 90)) usage("--lean-deg must be within (-90, 90)");
     } else if (flag == "--direct") {
       options.refine = number(value, flag) == 0;
     } else if (flag == "--per-joint") {
@@ -285,14 +292,14 @@ int main(int argc, char** argv) {
                                             : 0.3 + 1.7 * (test_headings ? pose : pose + index);
         if (people > 0) {
           c.spec = body_gait::eval::walkingSubject(persons[k], pose, 0, heading);
-          all_cases.push_back(c);
-          continue;
+        } else {
+          c.spec = bodies[k];
+          c.spec.pose = body_gait::eval::gaitPose(pose, heading);
         }
-        c.spec = bodies[k];
-        c.spec.pose = body_gait::eval::gaitPose(pose, heading);
         if (abduction_deg >= 0)
           c.spec.pose.left_shoulder_abduction = c.spec.pose.right_shoulder_abduction =
               abduction_deg * kPi / 180;
+        if (lean_deg > -90) c.spec.pose.torso_lean = lean_deg * kPi / 180;
         all_cases.push_back(c);
       }
     }

@@ -98,6 +98,11 @@ const std::pair<const char*, double BodyPose::*> kAngles[] = {
     {"right_knee_flexion", &BodyPose::right_knee_flexion},
 };
 
+const std::pair<const char*, Material BodyMaterials::*> kMaterials[] = {
+    {"skin", &BodyMaterials::skin},
+    {"hair", &BodyMaterials::hair},
+    {"clothing", &BodyMaterials::clothing}};
+
 void validate(const Anthropometry& body) {
   for (const auto& [name, field] : kDimensions) {
     if (!(body.*field > 0))
@@ -505,10 +510,6 @@ HumanBodySpec humanBodyFromYaml(const YAML::Node& node) {
 
   if (const YAML::Node materials = node["materials"]) {
     const std::string material_where = where + ": materials";
-    const std::pair<const char*, Material BodyMaterials::*> kMaterials[] = {
-        {"skin", &BodyMaterials::skin},
-        {"hair", &BodyMaterials::hair},
-        {"clothing", &BodyMaterials::clothing}};
     std::vector<std::string> material_keys;
     for (const auto& material : kMaterials) {
       material_keys.push_back(std::string(material.first) + "_albedo");
@@ -525,6 +526,24 @@ HumanBodySpec humanBodyFromYaml(const YAML::Node& node) {
     }
   }
   return spec;
+}
+
+YAML::Node humanBodyToYaml(const HumanBodySpec& spec) {
+  // The keys humanBodyFromYaml reads, from the same tables, so the two cannot drift apart.
+  YAML::Node node;
+  node["type"] = "human";
+  node["name"] = spec.name;
+  for (const auto& [key, field] : kDimensions) node[key] = spec.body.*field;
+  for (int i = 0; i < 3; ++i) node["position"].push_back(spec.position[i]);
+  for (const auto& [name, field] : kAngles)
+    node["pose"][std::string(name) + "_deg"] = spec.pose.*field / kDegree;
+  for (const auto& [name, field] : kMaterials) {
+    const Material& material = spec.materials.*field;
+    node["materials"][std::string(name) + "_albedo"] = material.albedo;
+    for (int i = 0; i < 3; ++i)
+      node["materials"][std::string(name) + "_color"].push_back(material.color[i]);
+  }
+  return node;
 }
 
 }  // namespace body_scan::sim

@@ -33,9 +33,10 @@ struct CrossWalkResult {
   int walks_right = 0;  // probe walks whose vote is the true person
 };
 
-// Rounds k = 0, 1, ...: the gallery is walk k (modulo its count) of every person, the probes are
-// every other walk. Throws std::invalid_argument when a person has fewer than 2 walks or fewer
-// than 2 people are given.
+// Rounds k = 0, 1, ...: the gallery is walk k of every person who has one, the probes are every
+// other walk (identifyProbes of gait_id_evaluation.h, all 20 frames of eta3). A walk whose fits
+// give no gait cycle (no forward stride) is left out with its person for that round. Throws
+// std::invalid_argument when a person has fewer than 2 walks or fewer than 2 people are given.
 CrossWalkResult identifyAcrossWalks(const std::vector<WalkModels>& walks, FeatureSet set,
                                     View view = View::k3D);
 

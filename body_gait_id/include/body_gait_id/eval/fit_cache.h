@@ -28,7 +28,9 @@ std::string scanKey(const body_scan::sim::HumanBodySpec& spec, const std::string
 
 class FitCache {
  public:
-  // An empty folder disables the cache (load finds nothing, store does nothing).
+  // An empty folder disables the cache (load finds nothing, store does nothing). Creates the
+  // folder; throws body_scan::FileWriteError naming it when it cannot be created or written,
+  // so a run fails before its scans, not after.
   explicit FitCache(std::string folder = {});
   // nullopt when absent, of another version, truncated or damaged (the caller fits again).
   std::optional<CachedFit> load(const std::string& key) const;

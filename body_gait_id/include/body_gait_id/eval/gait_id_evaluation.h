@@ -25,6 +25,14 @@ struct PersonSource {
       spec;
 };
 
+// Motion-capture walks as the people (issue 7): items "[PERSON=]WALK.bvh" (PERSON defaults to
+// the file name up to its first '_', CMU: 07_02.bvh -> 07), people in order of first appearance,
+// walk t of a person is trial t, its poses 1-4 the frames body_scan_driver's pickGaitPoses finds,
+// each turned to the protocol's heading. `picked` (optional) gets one line per walk with its
+// frames. Throws std::runtime_error naming a bad file or a person with fewer than `trials` walks.
+PersonSource bvhPeople(const std::vector<std::string>& items, const std::string& joint_map,
+                       int trials, std::vector<std::string>* picked = nullptr);
+
 enum class ScannerKind {
   kFull,     // the 12-pair scanner simulation (body_gait::eval::scanBodyWithFullScanner, ~4 s)
   kSampler,  // rays cast into the scene from the same viewpoints (body_gait::eval::sampleBody)

@@ -23,6 +23,7 @@ struct NamedMetrics {
   std::string name;  // e.g. "3D dynamic+static"
   RecognitionMetrics metrics;
   std::optional<ThesisFigures> thesis;
+  std::string note;  // what a reader must know about the row (e.g. people left out); "" none
 };
 
 struct RecognitionReport {

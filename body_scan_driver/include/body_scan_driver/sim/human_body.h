@@ -139,4 +139,8 @@ void addHumanBody(const HumanBodySpec& spec, Scene& scene);
 // Throws std::runtime_error naming the bad key and the accepted values.
 HumanBodySpec humanBodyFromYaml(const YAML::Node& node);
 
+// The scene-file node of a spec (every dimension, angle and material written out), read back by
+// humanBodyFromYaml to the same spec: how tools hand a generated person to a scene file.
+YAML::Node humanBodyToYaml(const HumanBodySpec& spec);
+
 }  // namespace body_scan::sim
