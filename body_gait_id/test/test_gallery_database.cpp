@@ -202,6 +202,32 @@ TEST_F(GalleryDatabaseTest, ForeignNewerAndUnknownSchemasAreRefused) {
   EXPECT_NE(openError().find("unknown schema version"), std::string::npos) << openError();
 }
 
+// A version 1 file (statistics without running sums) is upgraded when opened: same subjects,
+// statistics recomputed from its poses, and it takes new enrolments.
+TEST_F(GalleryDatabaseTest, VersionOneFileIsUpgraded) {
+  {
+    GalleryDatabase db(path_);
+    db.enroll({"A", "", 0}, {}, trainingPoses(1.6, 1));
+    db.enroll({"B", "", 0}, {}, trainingPoses(1.8, 2));
+  }
+  execRaw(
+      "ALTER TABLE normalization DROP COLUMN sum_dynamic;"
+      "ALTER TABLE normalization DROP COLUMN sum_sq_dynamic;"
+      "ALTER TABLE normalization DROP COLUMN sum_static;"
+      "ALTER TABLE normalization DROP COLUMN sum_sq_static;"
+      "UPDATE schema_version SET version = 1");
+  GalleryDatabase db(path_);
+  EXPECT_EQ(scalar("SELECT version FROM schema_version"), GalleryDatabase::kSchemaVersion);
+  EXPECT_EQ(db.subjects().size(), 2u);
+  db.enroll({"C", "", 0}, {}, trainingPoses(1.7, 3));
+  std::vector<GaitFeatures> features;
+  for (const GalleryPose& pose : db.poses()) features.push_back(pose.features);
+  const FeatureNormalization expected = FeatureNormalization::fit(features);
+  EXPECT_EQ(scalar("SELECT pose_count FROM normalization WHERE view = '3d'"), 120);
+  EXPECT_LT((db.normalization().mean_static - expected.mean_static).norm(), 1e-12);
+  EXPECT_LT((db.normalization().sigma_dynamic - expected.sigma_dynamic).norm(), 1e-12);
+}
+
 TEST_F(GalleryDatabaseTest, LockedDatabaseWaitsThenGivesAClearError) {
   GalleryDatabase db(path_, std::chrono::milliseconds(200));
   sqlite3* other = nullptr;  // another writer holding the write lock
