@@ -143,6 +143,18 @@ void buildIndex(benchmark::State& state) {
 }
 BENCHMARK(buildIndex)->Arg(10'000)->Arg(1'000'000)->Unit(benchmark::kMillisecond);
 
+// The best pose of every subject (CMC, ROC, open set): a full scan with a per-subject early
+// exit, no index; the peer is one identify() of the same gallery.
+void rankSubjects(benchmark::State& state) {
+  const int poses = static_cast<int>(state.range(0));
+  const Matcher& matcher = cached<Matcher>(poses, FeatureSet::kDynamicStatic);
+  const std::vector<GaitFeatures>& probes = fixture(poses).genuine;
+  std::size_t i = 0;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(matcher.rankSubjects(probes[i++ % probes.size()]).size());
+}
+BENCHMARK(rankSubjects)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMicrosecond);
+
 // Arguments: gallery poses, feature set (0 dynamic, 1 dynamic + static).
 void sizes(benchmark::internal::Benchmark* b) {
   for (int set : {1, 0})

@@ -286,8 +286,15 @@ void GalleryDatabase::createOrCheckSchema() {
     throw GalleryError("gallery database '" + path_ +
                        "' is an SQLite file but not a gait gallery (no schema_version table): "
                        "point ~database / --database at a gallery file or a new file name");
-  Statement version(db_, "SELECT version FROM schema_version", thrower);
-  const std::int64_t found = version.step() ? version.integer(0) : -1;
+  std::int64_t found = -1;
+  {
+    Statement version(db_, "SELECT version FROM schema_version", thrower);
+    found = version.step() ? version.integer(0) : -1;
+  }
+  if (found == 1) {
+    upgradeFromVersion1();
+    found = kSchemaVersion;
+  }
   if (found > kSchemaVersion)
     throw GalleryError("gallery database '" + path_ + "' has schema version " +
                        std::to_string(found) + ", newer than this body_gait_id's " +
@@ -298,6 +305,27 @@ void GalleryDatabase::createOrCheckSchema() {
                        "): restore it from a backup or start a new gallery file");
 }
 
+void GalleryDatabase::upgradeFromVersion1() {
+  const auto thrower = [this](int code, const std::string& what) { fail(code, what); };
+  Transaction transaction(db_, thrower);
+  {
+    Statement version(db_, "SELECT version FROM schema_version", thrower);
+    if (version.step() && version.integer(0) != 1) return;  // another process upgraded it
+  }
+  exec(
+      "ALTER TABLE normalization ADD COLUMN sum_dynamic BLOB NOT NULL DEFAULT x'';"
+      "ALTER TABLE normalization ADD COLUMN sum_sq_dynamic BLOB NOT NULL DEFAULT x'';"
+      "ALTER TABLE normalization ADD COLUMN sum_static BLOB NOT NULL DEFAULT x'';"
+      "ALTER TABLE normalization ADD COLUMN sum_sq_static BLOB NOT NULL DEFAULT x'';"
+      "DELETE FROM normalization;",
+      "upgrading the schema from version 1");
+  updateNormalization(poseRecords(), +1.0);
+  Statement version(db_, "UPDATE schema_version SET version = ?", thrower);
+  version.bind(1, kSchemaVersion);
+  version.step();
+  transaction.commit();
+}
+
 std::int64_t GalleryDatabase::enroll(const SubjectInfo& info, const std::vector<std::string>& scans,
                                      const std::vector<PoseRecord>& poses) {
   if (info.name.empty())
@@ -305,6 +333,14 @@ std::int64_t GalleryDatabase::enroll(const SubjectInfo& info, const std::vector<
   if (poses.empty())
     throw GalleryError("gallery database '" + path_ + "': enrolment of '" + info.name +
                        "' without training poses: give the 4 fitted representative poses");
+  // A NaN would poison the running sums of every later identification.
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const body_gait::BodyModel& m = poses[i].model;
+    if (!m.p.allFinite() || !m.q.allFinite() || !m.r.allFinite())
+      throw GalleryError("gallery database '" + path_ + "': enrolment of '" + info.name +
+                         "' refused: pose " + std::to_string(i + 1) +
+                         " has non-finite values (NaN or inf); fit that scan again");
+  }
   const auto thrower = [this](int code, const std::string& what) { fail(code, what); };
   Transaction transaction(db_, thrower);
   Statement subject(db_,

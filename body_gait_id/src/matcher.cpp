@@ -20,6 +20,19 @@ constexpr int kLeafRows = 64;  // rows per k-d tree leaf (at most; 16-64 measure
 // distance is accumulated in float32 too, and must not drop an exact tie by a rounding.
 constexpr float kPruneSlack = 1.0f + 1e-5f;
 
+// A NaN would poison the statistics and compare false in every distance.
+void checkFinite(const std::vector<GalleryPose>& gallery) {
+  if (gallery.empty())
+    throw std::invalid_argument("matcher: the gallery is empty; enrol at least one subject first");
+  for (std::size_t i = 0; i < gallery.size(); ++i)
+    if (!gallery[i].features.dynamic.allFinite() || !gallery[i].features.statics.allFinite())
+      throw std::invalid_argument("matcher: gallery pose " + std::to_string(i) + " (subject " +
+                                  std::to_string(gallery[i].subject_id) + ", frame " +
+                                  std::to_string(gallery[i].frame) +
+                                  ") has non-finite features (NaN or inf): enrol the subject "
+                                  "again from valid fits");
+}
+
 std::vector<GaitFeatures> featuresOf(const std::vector<GalleryPose>& gallery) {
   std::vector<GaitFeatures> features;
   features.reserve(gallery.size());
@@ -46,16 +59,14 @@ inline float partialDistance(const float* a, const float* b, int stride, float b
 }  // namespace
 
 Matcher::Matcher(std::vector<GalleryPose> gallery, FeatureSet set) : set_(set) {
-  if (gallery.empty())
-    throw std::invalid_argument("matcher: the gallery is empty; enrol at least one subject first");
+  checkFinite(gallery);
   normalization_ = FeatureNormalization::fit(featuresOf(gallery));
   build(std::move(gallery));
 }
 
 Matcher::Matcher(std::vector<GalleryPose> gallery, FeatureSet set, FeatureNormalization stored)
     : set_(set), normalization_(std::move(stored)) {
-  if (gallery.empty())
-    throw std::invalid_argument("matcher: the gallery is empty; enrol at least one subject first");
+  checkFinite(gallery);
   build(std::move(gallery));
 }
 
@@ -128,7 +139,12 @@ void Matcher::build(std::vector<GalleryPose> gallery) {
 }
 
 std::vector<float> Matcher::project(const GaitFeatures& probe) const {
-  const Eigen::VectorXf rotated = axes_.transpose() * (normalization_.apply(probe, set_) - centre_);
+  const Eigen::VectorXf phi = normalization_.apply(probe, set_);
+  // A NaN would compare false everywhere and return an arbitrary pose.
+  if (!phi.allFinite())
+    throw std::invalid_argument(
+        "matcher: the probe's features are not finite (NaN or inf): identify a valid fit");
+  const Eigen::VectorXf rotated = axes_.transpose() * (phi - centre_);
   std::vector<float> out(stride_, 0.0f);
   std::copy_n(rotated.data(), dimension_, out.data());
   return out;
@@ -177,16 +193,34 @@ Match Matcher::identify(const GaitFeatures& probe) const {
 
 std::vector<Match> Matcher::rankSubjects(const GaitFeatures& probe) const {
   const std::vector<float> query = project(probe);
+  // Every subject needs its own best, so every row is measured: whole rows without the early
+  // exit, then branch-free minima per subject, then the rows that reach them (few, so that
+  // branch is predictable). The early-exit scan was 3x slower here: its branches, and the
+  // subject's best, are unpredictable row to row.
+  const std::size_t n = ids_.size();
+  std::vector<float> distance(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float* r = row(i);
+    float lanes[kBlock] = {};
+    for (int start = 0; start < stride_; start += kBlock)
+      for (int k = 0; k < kBlock; ++k) {
+        const float d = r[start + k] - query[start + k];
+        lanes[k] += d * d;
+      }
+    float sum = 0;
+    for (int k = 0; k < kBlock; ++k) sum += lanes[k];
+    distance[i] = sum;
+  }
   std::vector<float> best(subject_count_, std::numeric_limits<float>::infinity());
-  std::vector<std::size_t> best_index(subject_count_, 0);
-  for (std::size_t i = 0; i < ids_.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i)
+    best[ids_[i].subject_slot] = std::min(best[ids_[i].subject_slot], distance[i]);
+  constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> best_index(subject_count_, kNone);
+  for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t slot = ids_[i].subject_slot;
-    const float d = partialDistance(row(i), query.data(), stride_, best[slot]);
-    if (d < best[slot] ||
-        (d == best[slot] && ids_[i].gallery_index < ids_[best_index[slot]].gallery_index)) {
-      best[slot] = d;
+    if (distance[i] == best[slot] &&
+        (best_index[slot] == kNone || ids_[i].gallery_index < ids_[best_index[slot]].gallery_index))
       best_index[slot] = i;
-    }
   }
   std::vector<Match> matches;
   matches.reserve(subject_count_);

@@ -48,11 +48,17 @@ class NodeProcess {
       dup2(fd, 1);
       dup2(fd, 2);
       const std::string name_arg = "__name:=" + name, db_arg = "_database:=" + database;
-      execl(GAIT_ID_NODE, GAIT_ID_NODE, name_arg.c_str(), db_arg.c_str(), nullptr);
+      execl(GAIT_ID_NODE, GAIT_ID_NODE, name_arg.c_str(), db_arg.c_str(), "_accept_threshold:=3.0",
+            nullptr);
       _exit(127);
     }
   }
-  ~NodeProcess() { stop(); }
+  ~NodeProcess() {
+    stop();
+    if (::testing::Test::HasFailure())  // the node's side of a failure
+      std::printf("---- %s output ----\n%s---- end of %s ----\n", name_.c_str(), log().c_str(),
+                  name_.c_str());
+  }
   bool waitForServices() const {
     return ros::service::waitForService("/" + name_ + "/list", ros::Duration(20));
   }
@@ -95,6 +101,7 @@ class GaitIdNodeTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() / ("test_gait_id_node_" + std::to_string(getpid()));
+    fs::remove_all(dir_);  // a gallery left by an earlier process of the same pid
     fs::create_directories(dir_);
     people_ = body_gait::eval::simulatedPeople(kPeople, 6);
   }

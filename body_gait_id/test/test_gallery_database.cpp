@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <thread>
 
@@ -171,6 +172,14 @@ TEST_F(GalleryDatabaseTest, BadEnrolmentsAreRefusedAndWriteNothing) {
   GalleryDatabase db(path_);
   EXPECT_THROW(db.enroll({"", "", 0}, {}, trainingPoses(1.7, 1)), GalleryError);
   EXPECT_THROW(db.enroll({"Nobody", "", 0}, {}, {}), GalleryError);
+  std::vector<PoseRecord> poses = trainingPoses(1.7, 1);
+  poses[12].model.q[3] = std::numeric_limits<double>::quiet_NaN();
+  try {
+    db.enroll({"Nan", "", 0}, {}, poses);
+    ADD_FAILURE() << "a NaN pose must be refused";
+  } catch (const GalleryError& e) {
+    EXPECT_NE(std::string(e.what()).find("pose 13 has non-finite"), std::string::npos) << e.what();
+  }
   EXPECT_TRUE(db.subjects().empty());
 }
 
@@ -191,6 +200,32 @@ TEST_F(GalleryDatabaseTest, ForeignNewerAndUnknownSchemasAreRefused) {
   EXPECT_NE(openError().find("schema version 7, newer"), std::string::npos) << openError();
   execRaw("UPDATE schema_version SET version = 0");
   EXPECT_NE(openError().find("unknown schema version"), std::string::npos) << openError();
+}
+
+// A version 1 file (statistics without running sums) is upgraded when opened: same subjects,
+// statistics recomputed from its poses, and it takes new enrolments.
+TEST_F(GalleryDatabaseTest, VersionOneFileIsUpgraded) {
+  {
+    GalleryDatabase db(path_);
+    db.enroll({"A", "", 0}, {}, trainingPoses(1.6, 1));
+    db.enroll({"B", "", 0}, {}, trainingPoses(1.8, 2));
+  }
+  execRaw(
+      "ALTER TABLE normalization DROP COLUMN sum_dynamic;"
+      "ALTER TABLE normalization DROP COLUMN sum_sq_dynamic;"
+      "ALTER TABLE normalization DROP COLUMN sum_static;"
+      "ALTER TABLE normalization DROP COLUMN sum_sq_static;"
+      "UPDATE schema_version SET version = 1");
+  GalleryDatabase db(path_);
+  EXPECT_EQ(scalar("SELECT version FROM schema_version"), GalleryDatabase::kSchemaVersion);
+  EXPECT_EQ(db.subjects().size(), 2u);
+  db.enroll({"C", "", 0}, {}, trainingPoses(1.7, 3));
+  std::vector<GaitFeatures> features;
+  for (const GalleryPose& pose : db.poses()) features.push_back(pose.features);
+  const FeatureNormalization expected = FeatureNormalization::fit(features);
+  EXPECT_EQ(scalar("SELECT pose_count FROM normalization WHERE view = '3d'"), 120);
+  EXPECT_LT((db.normalization().mean_static - expected.mean_static).norm(), 1e-12);
+  EXPECT_LT((db.normalization().sigma_dynamic - expected.sigma_dynamic).norm(), 1e-12);
 }
 
 TEST_F(GalleryDatabaseTest, LockedDatabaseWaitsThenGivesAClearError) {

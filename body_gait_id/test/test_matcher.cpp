@@ -3,6 +3,7 @@
 #include <body_gait_id/matcher.h>
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <map>
 #include <random>
 
@@ -147,6 +148,13 @@ TEST(Matcher, BadInputGivesClearErrors) {
   const Matcher matcher(randomGallery(2, 40, rng), FeatureSet::kDynamic);
   GaitFeatures frontal{Eigen::VectorXd::Zero(11), Eigen::VectorXd::Zero(12)};
   EXPECT_THROW(matcher.identify(frontal), std::invalid_argument);
+  GaitFeatures nan{Eigen::VectorXd::Zero(22), Eigen::VectorXd::Zero(12)};
+  nan.dynamic[5] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(matcher.identify(nan), std::invalid_argument);
+  EXPECT_THROW(matcher.rankSubjects(nan), std::invalid_argument);
+  std::vector<GalleryPose> bad = randomGallery(2, 40, rng);
+  bad[7].features.statics[3] = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(Matcher(bad, FeatureSet::kDynamicStatic), std::invalid_argument);
 }
 
 }  // namespace

@@ -70,7 +70,9 @@ FeatureSet parseFeatureSet(const std::string& name);
 // a writer (WAL), writers take turns (busy timeout).
 class GalleryDatabase {
  public:
-  static constexpr int kSchemaVersion = 1;
+  // 2: the normalization table keeps running sums. Version 1 files (statistics only) are
+  // upgraded when opened: the sums are computed once from their poses.
+  static constexpr int kSchemaVersion = 2;
 
   // Opens the gallery at path, creating the file and its schema if it does not exist. Throws
   // GalleryError for a file that is not an SQLite database, a newer or unknown schema, or a
@@ -112,6 +114,7 @@ class GalleryDatabase {
 
  private:
   void createOrCheckSchema();
+  void upgradeFromVersion1();
   int tableCount(bool& has_version) const;
   // Adds (weight 1) or takes away (weight -1) poses from the stored statistics of every view.
   void updateNormalization(const std::vector<PoseRecord>& poses, double weight);
