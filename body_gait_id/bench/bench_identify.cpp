@@ -53,7 +53,7 @@ struct Population {
   }
   GaitFeatures pose(const Person& p, double cycle_phase) {
     std::normal_distribution<double> normal;
-    GaitFeatures f{Eigen::VectorXd(22), p.lengths};
+    GaitFeatures f{Eigen::VectorXd(22), p.lengths, {}};
     for (int k = 0; k < 22; ++k)
       f.dynamic[k] =
           p.offset[k] + p.amplitude[k] * std::sin(cycle_phase + p.phase[k]) + 0.02 * normal(rng);

@@ -71,7 +71,32 @@ GaitFeatures gaitFeatures(const BodyModel& model, View view) {
     case View::k3D:
       break;
   }
-  return {model.q, model.r};  // eqs 5.2, 5.3
+  return {model.q, model.r, bodyShapeFeatures(model)};  // eqs 5.2, 5.3; shape beyond the thesis
+}
+
+Eigen::VectorXd bodyShapeFeatures(const BodyModel& model) {
+  using namespace body_gait;
+  const SegmentLengths& r = model.r;
+  const BodyShape& shape = model.shape;
+  Eigen::VectorXd b(kShapeSize);
+  const double leg =
+      (r[kRightUpperLeg] + r[kRightLowerLeg] + r[kLeftUpperLeg] + r[kLeftLowerLeg]) / 2;
+  b[0] = leg + r[kLowerTorso] - shape.hip_rise + r[kUpperTorso] + r[kNeck] + r[kHead];
+  b[1] = shape.shoulder_half_width;
+  b[2] = shape.hip_half_width;
+  int k = 3;
+  // The lower torso's proximal radius is the upper torso's, neck and head are cylinders.
+  b[k++] = shape.proximal_radius[kUpperTorso];
+  b[k++] = shape.distal_radius[kUpperTorso];
+  b[k++] = shape.distal_radius[kLowerTorso];
+  b[k++] = shape.proximal_radius[kNeck];
+  b[k++] = shape.proximal_radius[kHead];
+  for (int s : {kRightUpperArm, kRightLowerArm, kLeftUpperArm, kLeftLowerArm, kRightUpperLeg,
+                kRightLowerLeg, kLeftUpperLeg, kLeftLowerLeg}) {
+    b[k++] = shape.proximal_radius[s];
+    b[k++] = shape.distal_radius[s];
+  }
+  return b;
 }
 
 FeatureNormalization FeatureNormalization::fit(const std::vector<GaitFeatures>& gallery) {
@@ -104,27 +129,76 @@ FeatureNormalization FeatureNormalization::fit(const std::vector<GaitFeatures>& 
   };
   n.sigma_dynamic = sigma(var_d);
   n.sigma_static = sigma(var_s);
+  const Eigen::Index nb = gallery.front().shape.size();
+  bool all_shaped = nb > 0;
+  for (const GaitFeatures& f : gallery) all_shaped = all_shaped && f.shape.size() == nb;
+  if (all_shaped) {
+    Eigen::VectorXd sum_b = Eigen::VectorXd::Zero(nb), var_b = Eigen::VectorXd::Zero(nb);
+    for (const GaitFeatures& f : gallery) sum_b += f.shape;
+    n.mean_shape = sum_b / count;
+    for (const GaitFeatures& f : gallery) var_b += (f.shape - n.mean_shape).cwiseAbs2();
+    n.sigma_shape = sigma(var_b);
+  }
   return n;
 }
 
 int FeatureNormalization::size(FeatureSet set) const {
-  return static_cast<int>(mean_dynamic.size() +
-                          (set == FeatureSet::kDynamicStatic ? mean_static.size() : 0));
+  Eigen::Index n = mean_dynamic.size();
+  if (set != FeatureSet::kDynamic) n += mean_static.size();
+  if (set == FeatureSet::kDynamicStaticShape) n += kShapeSize;
+  return static_cast<int>(n);
 }
 
 Eigen::VectorXd FeatureNormalization::normalized(const GaitFeatures& f, FeatureSet set) const {
   checkSizes("the dynamic feature", f.dynamic, mean_dynamic);
   Eigen::VectorXd phi(size(set));
-  phi.head(mean_dynamic.size()) = (f.dynamic - mean_dynamic).cwiseQuotient(sigma_dynamic);
-  if (set == FeatureSet::kDynamicStatic) {
+  const Eigen::Index nd = mean_dynamic.size(), ns = mean_static.size();
+  phi.head(nd) = (f.dynamic - mean_dynamic).cwiseQuotient(sigma_dynamic);
+  if (set != FeatureSet::kDynamic) {
     checkSizes("the static feature", f.statics, mean_static);
-    phi.tail(mean_static.size()) = (f.statics - mean_static).cwiseQuotient(sigma_static);
+    phi.segment(nd, ns) = (f.statics - mean_static).cwiseQuotient(sigma_static);
+  }
+  if (set == FeatureSet::kDynamicStaticShape) {
+    if (mean_shape.size() != kShapeSize)
+      throw std::invalid_argument(
+          "gait features: the dynamic_static_shape feature set needs 3D features with body shape "
+          "in the gallery; use dynamic or dynamic_static with the 2D views");
+    checkSizes("the shape feature", f.shape, mean_shape);
+    phi.tail(kShapeSize) = (f.shape - mean_shape).cwiseQuotient(sigma_shape);
+  }
+  if (weights.size() > 0) {
+    if (weights.size() != phi.size())
+      throw std::invalid_argument("gait features: " + std::to_string(weights.size()) +
+                                  " component weights for " + std::to_string(phi.size()) +
+                                  " components; fit the weights for the feature set in use");
+    phi = phi.cwiseProduct(weights);
   }
   return phi;
 }
 
 Eigen::VectorXf FeatureNormalization::apply(const GaitFeatures& f, FeatureSet set) const {
   return normalized(f, set).cast<float>();
+}
+
+Eigen::VectorXd noiseWeights(const FeatureNormalization& normalization, const FeatureNoise& noise,
+                             FeatureSet set) {
+  const auto ratio = [](const char* what, const Eigen::VectorXd& sigma, const Eigen::VectorXd& sd) {
+    if (sd.size() != sigma.size())
+      throw std::invalid_argument(std::string("noise weights: the ") + what + " noise has " +
+                                  std::to_string(sd.size()) + " components, the statistics " +
+                                  std::to_string(sigma.size()) +
+                                  "; learn the noise on the same view and feature set");
+    return Eigen::VectorXd(sigma.cwiseQuotient(sd.cwiseMax(1e-9)));
+  };
+  Eigen::VectorXd w(normalization.size(set));
+  const Eigen::Index nd = normalization.sigma_dynamic.size(),
+                     ns = normalization.sigma_static.size();
+  w.head(nd) = ratio("dynamic", normalization.sigma_dynamic, noise.dynamic);
+  if (set != FeatureSet::kDynamic)
+    w.segment(nd, ns) = ratio("static", normalization.sigma_static, noise.statics);
+  if (set == FeatureSet::kDynamicStaticShape)
+    w.tail(kShapeSize) = ratio("shape", normalization.sigma_shape, noise.shape);
+  return w;
 }
 
 }  // namespace body_gait_id

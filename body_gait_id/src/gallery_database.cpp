@@ -39,12 +39,12 @@ CREATE TABLE normalization (  -- eqs 5.14-5.15 over the whole gallery, per view
   mean_static BLOB NOT NULL, sigma_static BLOB NOT NULL);
 )sql";
 
-constexpr int kShapeSize = 2 * body_gait::kSegmentCount + 4;
+constexpr int kShapeBlobSize = 2 * body_gait::kSegmentCount + 4;
 
 constexpr View kViews[] = {View::k3D, View::kFrontal, View::kSide};
 
 Eigen::VectorXd shapeVector(const body_gait::BodyShape& shape) {
-  Eigen::VectorXd v(kShapeSize);
+  Eigen::VectorXd v(kShapeBlobSize);
   for (int i = 0; i < body_gait::kSegmentCount; ++i) {
     v[i] = shape.proximal_radius[i];
     v[body_gait::kSegmentCount + i] = shape.distal_radius[i];
@@ -60,10 +60,10 @@ body_gait::BodyShape shapeFromVector(const Eigen::VectorXd& v) {
     shape.proximal_radius[i] = v[i];
     shape.distal_radius[i] = v[body_gait::kSegmentCount + i];
   }
-  shape.shoulder_half_width = v[kShapeSize - 4];
-  shape.shoulder_drop = v[kShapeSize - 3];
-  shape.hip_half_width = v[kShapeSize - 2];
-  shape.hip_rise = v[kShapeSize - 1];
+  shape.shoulder_half_width = v[kShapeBlobSize - 4];
+  shape.shoulder_drop = v[kShapeBlobSize - 3];
+  shape.hip_half_width = v[kShapeBlobSize - 2];
+  shape.hip_rise = v[kShapeBlobSize - 1];
   return shape;
 }
 
@@ -177,13 +177,23 @@ View parseView(const std::string& name) {
 }
 
 const char* featureSetName(FeatureSet set) {
-  return set == FeatureSet::kDynamic ? "dynamic" : "dynamic_static";
+  switch (set) {
+    case FeatureSet::kDynamic:
+      return "dynamic";
+    case FeatureSet::kDynamicStaticShape:
+      return "dynamic_static_shape";
+    case FeatureSet::kDynamicStatic:
+      break;
+  }
+  return "dynamic_static";
 }
 
 FeatureSet parseFeatureSet(const std::string& name) {
-  for (FeatureSet set : {FeatureSet::kDynamic, FeatureSet::kDynamicStatic})
+  for (FeatureSet set :
+       {FeatureSet::kDynamic, FeatureSet::kDynamicStatic, FeatureSet::kDynamicStaticShape})
     if (name == featureSetName(set)) return set;
-  throw std::invalid_argument("unknown feature set '" + name + "': use dynamic or dynamic_static");
+  throw std::invalid_argument("unknown feature set '" + name +
+                              "': use dynamic, dynamic_static or dynamic_static_shape");
 }
 
 void GalleryDatabase::fail(int code, const std::string& what) const {
@@ -423,7 +433,7 @@ std::vector<PoseRecord> GalleryDatabase::poseRecords() const {
     record.model.p = list.vector(3, 6);
     record.model.q = list.vector(4, 22);
     record.model.r = list.vector(5, 12);
-    record.model.shape = shapeFromVector(list.vector(6, kShapeSize));
+    record.model.shape = shapeFromVector(list.vector(6, kShapeBlobSize));
     out.push_back(std::move(record));
   }
   return out;
@@ -438,13 +448,21 @@ std::vector<GalleryPose> GalleryDatabase::poses(View view) const {
     return out;
   }
   const auto thrower = [this](int code, const std::string& what) { fail(code, what); };
-  Statement list(db_, "SELECT subject, sequence, frame, dynamic, statics FROM poses ORDER BY id",
+  // The shape measures are computed from the stored r and shape (no schema change).
+  Statement list(db_,
+                 "SELECT subject, sequence, frame, dynamic, statics, r, shape FROM poses "
+                 "ORDER BY id",
                  thrower);
-  while (list.step())
+  while (list.step()) {
+    body_gait::BodyModel model;
+    model.r = list.vector(5, kStaticSize);
+    model.shape = shapeFromVector(list.vector(6, kShapeBlobSize));
     out.push_back({list.integer(0),
                    static_cast<int>(list.integer(1)),
                    static_cast<int>(list.integer(2)),
-                   {list.vector(3, dynamicSize(View::k3D)), list.vector(4, kStaticSize)}});
+                   {list.vector(3, dynamicSize(View::k3D)), list.vector(4, kStaticSize),
+                    bodyShapeFeatures(model)}});
+  }
   return out;
 }
 
@@ -460,8 +478,20 @@ FeatureNormalization GalleryDatabase::normalization(View view) const {
                        "' has no normalization statistics: the gallery is empty; enrol at least "
                        "one subject first");
   const Eigen::Index nd = dynamicSize(view);
-  return {read.vector(0, nd), read.vector(1, nd), read.vector(2, kStaticSize),
-          read.vector(3, kStaticSize)};
+  FeatureNormalization n;
+  n.mean_dynamic = read.vector(0, nd);
+  n.sigma_dynamic = read.vector(1, nd);
+  n.mean_static = read.vector(2, kStaticSize);
+  n.sigma_static = read.vector(3, kStaticSize);
+  if (view == View::k3D) {
+    // Shape statistics are not stored (schema 1): fitted here over the same poses.
+    std::vector<GaitFeatures> features;
+    for (GalleryPose& pose : poses(view)) features.push_back(std::move(pose.features));
+    const FeatureNormalization fitted = FeatureNormalization::fit(features);
+    n.mean_shape = fitted.mean_shape;
+    n.sigma_shape = fitted.sigma_shape;
+  }
+  return n;
 }
 
 Matcher GalleryDatabase::matcher(FeatureSet set, View view) const {

@@ -145,7 +145,7 @@ TEST(Matcher, BadInputGivesClearErrors) {
   EXPECT_THROW(Matcher({}, FeatureSet::kDynamic), std::invalid_argument);
   std::mt19937 rng(1);
   const Matcher matcher(randomGallery(2, 40, rng), FeatureSet::kDynamic);
-  GaitFeatures frontal{Eigen::VectorXd::Zero(11), Eigen::VectorXd::Zero(12)};
+  GaitFeatures frontal{Eigen::VectorXd::Zero(11), Eigen::VectorXd::Zero(12), {}};
   EXPECT_THROW(matcher.identify(frontal), std::invalid_argument);
 }
 

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <mutex>
@@ -126,6 +127,8 @@ std::string transformSuffix(const TransformOptions& transform) {
       return " PCA";
     case FeatureTransform::kLda:
       return " LDA";
+    case FeatureTransform::kNoiseWeighted:
+      return " weighted";
     default:
       return "";
   }
@@ -264,10 +267,17 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row, int gal
 
   std::optional<Matcher> matcher;
   std::optional<ProjectedRanker> ranker;
-  if (transform.kind == FeatureTransform::kNone)
+  if (transform.kind == FeatureTransform::kNone) {
     matcher.emplace(gallery, row.set);
-  else
+  } else if (transform.kind == FeatureTransform::kNoiseWeighted) {
+    std::vector<GaitFeatures> features;
+    for (const GalleryPose& pose : gallery) features.push_back(pose.features);
+    FeatureNormalization normalization = FeatureNormalization::fit(features);
+    normalization.weights = noiseWeights(normalization, transform.noise, row.set);
+    matcher.emplace(gallery, row.set, normalization);
+  } else {
     ranker.emplace(gallery, row.set, transform);
+  }
 
   for (int person = 0; person < static_cast<int>(walks.size()); ++person) {
     const bool enrolled_person = person < enrolled;
@@ -297,6 +307,10 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row, int gal
     }
   }
   return result;
+}
+
+FeatureRow shapeRow() {
+  return {"3D dynamic+static+shape", View::k3D, FeatureSet::kDynamicStaticShape, std::nullopt};
 }
 
 std::vector<NamedMetrics> thesisProtocol(const FittedWalks& walks,
@@ -332,6 +346,143 @@ std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
                        metrics, std::nullopt});
   }
   return results;
+}
+
+}  // namespace body_gait_id::eval
+
+namespace body_gait_id::eval {
+namespace {
+
+// Candidate static measures of one fitted pose: the lengths r, chain sums (whose shared joints'
+// errors cancel), the radii and the joint offsets.
+std::vector<std::pair<std::string, double>> candidateMeasures(const body_gait::BodyModel& m) {
+  using namespace body_gait;
+  std::vector<std::pair<std::string, double>> v;
+  for (int s = 0; s < kSegmentCount; ++s)
+    v.push_back({std::string("r ") + segmentInfo(s).name, m.r[s]});
+  const double leg_r = m.r[kRightUpperLeg] + m.r[kRightLowerLeg];
+  const double leg_l = m.r[kLeftUpperLeg] + m.r[kLeftLowerLeg];
+  const double arm_r = m.r[kRightUpperArm] + m.r[kRightLowerArm];
+  const double arm_l = m.r[kLeftUpperArm] + m.r[kLeftLowerArm];
+  v.push_back({"leg right", leg_r});
+  v.push_back({"leg left", leg_l});
+  v.push_back({"leg mean", (leg_r + leg_l) / 2});
+  v.push_back({"arm right", arm_r});
+  v.push_back({"arm left", arm_l});
+  v.push_back({"arm mean", (arm_r + arm_l) / 2});
+  v.push_back({"thigh mean", (m.r[kRightUpperLeg] + m.r[kLeftUpperLeg]) / 2});
+  v.push_back({"shank mean", (m.r[kRightLowerLeg] + m.r[kLeftLowerLeg]) / 2});
+  v.push_back({"upper arm mean", (m.r[kRightUpperArm] + m.r[kLeftUpperArm]) / 2});
+  v.push_back({"lower arm mean", (m.r[kRightLowerArm] + m.r[kLeftLowerArm]) / 2});
+  const double trunk = m.r[kLowerTorso] + m.r[kUpperTorso];
+  v.push_back({"trunk", trunk});
+  v.push_back({"trunk+neck+head", trunk + m.r[kNeck] + m.r[kHead]});
+  v.push_back({"stature chain", (leg_r + leg_l) / 2 + trunk + m.r[kNeck] + m.r[kHead]});
+  v.push_back({"stature chain - drop + rise",
+               (leg_r + leg_l) / 2 + trunk + m.r[kNeck] + m.r[kHead] - m.shape.hip_rise});
+  for (int s = 0; s < kSegmentCount; ++s)
+    v.push_back({std::string("rp ") + segmentInfo(s).name, m.shape.proximal_radius[s]});
+  for (int s = 0; s < kSegmentCount; ++s)
+    v.push_back({std::string("rd ") + segmentInfo(s).name, m.shape.distal_radius[s]});
+  for (int s = 0; s < kSegmentCount; ++s)
+    v.push_back({std::string("rmean ") + segmentInfo(s).name,
+                 (m.shape.proximal_radius[s] + m.shape.distal_radius[s]) / 2});
+  v.push_back({"shoulder_half_width", m.shape.shoulder_half_width});
+  v.push_back({"shoulder_drop", m.shape.shoulder_drop});
+  v.push_back({"hip_half_width", m.shape.hip_half_width});
+  v.push_back({"hip_rise", m.shape.hip_rise});
+  return v;
+}
+
+}  // namespace
+
+std::vector<MeasureNoise> bodyMeasureNoise(const FittedWalks& walks, int trial_a, int trial_b) {
+  std::vector<MeasureNoise> result;
+  std::vector<Eigen::VectorXd> a, b;  // per person: walk values
+  for (const auto& person : walks) {
+    if (!person.at(trial_a) || !person.at(trial_b)) continue;
+    auto walkValue = [&result](const body_gait::RepresentativePoses& poses) {
+      Eigen::VectorXd sum;
+      for (const body_gait::BodyModel& m : poses) {
+        const auto measures = candidateMeasures(m);
+        if (result.empty())
+          for (const auto& [name, value] : measures) result.push_back({name});
+        Eigen::VectorXd v(measures.size());
+        for (std::size_t i = 0; i < measures.size(); ++i) v[i] = measures[i].second;
+        sum = sum.size() ? Eigen::VectorXd(sum + v) : v;
+      }
+      return Eigen::VectorXd(sum / 4.0);
+    };
+    a.push_back(walkValue(*person.at(trial_a)));
+    b.push_back(walkValue(*person.at(trial_b)));
+  }
+  if (a.size() < 2) return {};
+  const double n = static_cast<double>(a.size());
+  for (std::size_t i = 0; i < result.size(); ++i) {
+    double mean = 0, between = 0, within = 0;
+    for (std::size_t p = 0; p < a.size(); ++p) mean += a[p][i] / n;
+    for (std::size_t p = 0; p < a.size(); ++p) {
+      between += (a[p][i] - mean) * (a[p][i] - mean) / (n - 1);
+      within += (a[p][i] - b[p][i]) * (a[p][i] - b[p][i]) / (2 * n);
+    }
+    result[i].mean = mean;
+    result[i].between_sd = std::sqrt(between);
+    result[i].within_sd = std::sqrt(within);
+    result[i].people = static_cast<int>(a.size());
+  }
+  return result;
+}
+
+FeatureNoise crossWalkNoise(const FittedWalks& walks, View view, int trial_a, int trial_b) {
+  Eigen::VectorXd sum_d, sum_s, sum_b;
+  int count = 0;
+  for (const auto& person : walks) {
+    const std::optional<WalkCycles> a = cyclesOf(person.at(trial_a));
+    const std::optional<WalkCycles> b = cyclesOf(person.at(trial_b));
+    if (!a || !b) continue;
+    for (std::size_t f = 0; f < a->eta3.frames.size(); ++f) {
+      const GaitFeatures fa = gaitFeatures(a->eta3.frames[f], view);
+      const GaitFeatures fb = gaitFeatures(b->eta3.frames[f], view);
+      const Eigen::VectorXd dd = (fa.dynamic - fb.dynamic).cwiseAbs2();
+      const Eigen::VectorXd ds = (fa.statics - fb.statics).cwiseAbs2();
+      const Eigen::VectorXd db = (fa.shape - fb.shape).cwiseAbs2();
+      sum_d = sum_d.size() ? Eigen::VectorXd(sum_d + dd) : dd;
+      sum_s = sum_s.size() ? Eigen::VectorXd(sum_s + ds) : ds;
+      sum_b = sum_b.size() ? Eigen::VectorXd(sum_b + db) : db;
+      ++count;
+    }
+  }
+  if (count < 2 * body_gait::kGaitCycleFrames)
+    throw std::runtime_error(
+        "cross-walk noise: fewer than 2 people with both walks fitted; use more people");
+  const double n = 2.0 * count;  // E[(a - b)^2] = 2 sigma^2
+  return {(sum_d / n).cwiseSqrt(), (sum_s / n).cwiseSqrt(), (sum_b / n).cwiseSqrt()};
+}
+
+FittedWalks withMedianBody(FittedWalks walks) {
+  for (auto& person : walks)
+    for (auto& walk : person) {
+      if (!walk) continue;
+      body_gait::RepresentativePoses& poses = *walk;
+      const auto median4 = [](std::array<double, 4> v) {
+        std::sort(v.begin(), v.end());
+        return (v[1] + v[2]) / 2;
+      };
+      const auto each = [&](auto get) {
+        const double m = median4({get(poses[0]), get(poses[1]), get(poses[2]), get(poses[3])});
+        for (body_gait::BodyModel& pose : poses) get(pose) = m;
+      };
+      for (int s = 0; s < body_gait::kSegmentCount; ++s) {
+        each([s](body_gait::BodyModel& m) -> double& { return m.r[s]; });
+        each([s](body_gait::BodyModel& m) -> double& { return m.shape.proximal_radius[s]; });
+        each([s](body_gait::BodyModel& m) -> double& { return m.shape.distal_radius[s]; });
+      }
+      each([](body_gait::BodyModel& m) -> double& { return m.shape.shoulder_half_width; });
+      each([](body_gait::BodyModel& m) -> double& { return m.shape.shoulder_drop; });
+      each([](body_gait::BodyModel& m) -> double& { return m.shape.hip_half_width; });
+      each([](body_gait::BodyModel& m) -> double& { return m.shape.hip_rise; });
+    }
+  return walks;
 }
 
 }  // namespace body_gait_id::eval

@@ -19,6 +19,7 @@
 #include <body_gait_id/eval/gait_id_evaluation.h>
 #include <body_gait_model/eval/gait_subjects.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -57,7 +58,9 @@ int main(int argc, char** argv) {
   ScanOptions scan;
   TransformOptions transform;
   ProbeFrames probe_frames = ProbeFrames::kInterpolated;
-  bool per_walk = false;
+  bool per_walk = false, measure_noise = false, shape = false, median_body = false;
+  std::uint32_t noise_seed = 0;  // 0: no noise-weighted rows
+  int noise_subjects = 30;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--help" || flag == "-h") usage("evaluates gait identification");
@@ -119,6 +122,19 @@ int main(int argc, char** argv) {
       plot_path = value;
     } else if (flag == "--per-walk") {
       per_walk = number(value, flag) != 0;
+    } else if (flag == "--shape") {
+      shape = number(value, flag) != 0;
+    } else if (flag == "--noise-seed") {
+      noise_seed = static_cast<std::uint32_t>(number(value, flag));
+    } else if (flag == "--noise-subjects") {
+      noise_subjects = static_cast<int>(number(value, flag));
+    } else if (flag == "--walk-body") {
+      const std::string kind = value;
+      if (kind != "mean" && kind != "median")
+        usage("--walk-body must be mean or median, got '" + kind + "'");
+      median_body = kind == "median";
+    } else if (flag == "--measure-noise") {
+      measure_noise = number(value, flag) != 0;
     } else if (flag == "--quiet") {
       scan.progress = number(value, flag) == 0;
     } else {
@@ -130,6 +146,9 @@ int main(int argc, char** argv) {
   if (subjects < 2) usage("--subjects must be >= 2 (identification needs a choice)");
   if (scan.sampler_columns < 20) usage("--columns must be >= 20");
   if (scan.threads < 1 || scan.threads > 16) usage("--threads must be 1..16");
+  if (noise_seed != 0 && noise_seed == seed)
+    usage("--noise-seed must differ from --seed: the noise is learned on other people");
+  if (noise_seed != 0 && noise_subjects < 2) usage("--noise-subjects must be >= 2");
 
   const std::vector<body_gait::eval::SimulatedPerson> persons =
       body_gait::eval::simulatedPeople(subjects, seed);
@@ -141,23 +160,54 @@ int main(int argc, char** argv) {
 
   std::vector<FeatureRow> rows = thesisRows();
   if (rows_choice == "3d") rows.resize(2);
+  std::vector<FeatureRow> rows_3d(rows.begin(), rows.begin() + 2);
+  if (shape) {
+    rows.insert(rows.begin() + 2, shapeRow());
+    rows_3d.push_back(shapeRow());
+  }
   FitSummary summary;
   std::vector<NamedMetrics> results;
   try {
-    const FittedWalks walks = fitWalks(people, cross_walk ? 2 : 1, scan, &summary);
+    FittedWalks walks = fitWalks(people, cross_walk ? 2 : 1, scan, &summary);
+    if (median_body) walks = withMedianBody(std::move(walks));
+    TransformOptions weighted;
+    if (noise_seed != 0) {
+      // Development people (another seed: nobody of the test set) with two walks each.
+      const std::vector<body_gait::eval::SimulatedPerson> development =
+          body_gait::eval::simulatedPeople(noise_subjects, noise_seed);
+      PersonSource dev;
+      for (const auto& person : development) dev.names.push_back(person.name);
+      dev.spec = [&development](int person, int pose, int trial, double heading) {
+        return body_gait::eval::walkingSubject(development[person], pose, trial, heading);
+      };
+      FittedWalks dev_walks = fitWalks(dev, 2, scan);
+      if (median_body) dev_walks = withMedianBody(std::move(dev_walks));
+      weighted.kind = FeatureTransform::kNoiseWeighted;
+      weighted.noise = crossWalkNoise(dev_walks);
+    }
+    if (measure_noise && cross_walk) {
+      std::printf("%-30s %9s %9s %9s %7s\n", "measure (walk = mean of 4 fits)", "mean", "between",
+                  "within", "F");
+      for (const MeasureNoise& m : bodyMeasureNoise(walks))
+        std::printf("%-30s %9.4f %9.4f %9.4f %7.2f\n", m.name.c_str(), m.mean, m.between_sd,
+                    m.within_sd, m.within_sd > 0 ? std::pow(m.between_sd / m.within_sd, 2) : 0.0);
+    }
     results =
         cross_walk ? crossWalkProtocol(walks, rows) : thesisProtocol(walks, rows, {}, probe_frames);
-    const std::vector<FeatureRow> rows_3d(rows.begin(), rows.begin() + 2);
     auto add = [&results](std::vector<NamedMetrics> extra) {
       for (NamedMetrics& r : extra) results.push_back(std::move(r));
     };
     if (transform.kind != FeatureTransform::kNone)
       add(cross_walk ? crossWalkProtocol(walks, rows_3d, transform)
                      : thesisProtocol(walks, rows_3d, transform, probe_frames));
+    if (noise_seed != 0)
+      add(cross_walk ? crossWalkProtocol(walks, rows_3d, weighted)
+                     : thesisProtocol(walks, rows_3d, weighted, probe_frames));
     if (per_walk && cross_walk) {
       add(crossWalkProtocol(walks, rows_3d, {}, true));
       if (transform.kind != FeatureTransform::kNone)
         add(crossWalkProtocol(walks, rows_3d, transform, true));
+      if (noise_seed != 0) add(crossWalkProtocol(walks, rows_3d, weighted, true));
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "evaluate_gait_id: %s\n", e.what());
@@ -177,7 +227,7 @@ int main(int argc, char** argv) {
   std::printf("%s", recognitionTable(results).c_str());
   for (const NamedMetrics& r : results) {
     const RecognitionMetrics& m = r.metrics;
-    std::printf("%-32s CMC", r.name.c_str());
+    std::printf("%-42s CMC", r.name.c_str());
     for (const Proportion& p : m.cmc) std::printf(" %.2f", 100 * p.rate);
     if (m.open_set)
       std::printf(" | open set: threshold %.3f, FNIR %.2f %%%s, FPIR %.2f %% [%.2f, %.2f] (n %d)",
