@@ -124,6 +124,12 @@ TEST_F(GalleryDatabaseTest, EnrolListReopenAndIdentify) {
     const FeatureNormalization stored = db.normalization(view);
     EXPECT_LT((stored.mean_dynamic - expected.mean_dynamic).norm(), 1e-12);
     EXPECT_LT((stored.sigma_static - expected.sigma_static).norm(), 1e-12);
+    // Shape: from the stored r and shape (3D only; no schema change).
+    EXPECT_EQ(poses[5].features.shape, features[5].shape);
+    EXPECT_EQ(stored.sigma_shape.size(), view == View::k3D ? kShapeSize : 0);
+    if (view == View::k3D) {
+      EXPECT_LT((stored.sigma_shape - expected.sigma_shape).norm(), 1e-12);
+    }
   }
   // A training pose identifies its subject and frame.
   const Matcher matcher = db.matcher(FeatureSet::kDynamicStatic);
@@ -132,6 +138,13 @@ TEST_F(GalleryDatabaseTest, EnrolListReopenAndIdentify) {
   EXPECT_EQ(m.sequence, bob[27].sequence);
   EXPECT_EQ(m.frame, bob[27].frame);
   EXPECT_LT(m.score, 1e-4);
+  // With the body shape too (their statures differ, so their girths do).
+  EXPECT_EQ(parseFeatureSet("dynamic_static_shape"), FeatureSet::kDynamicStaticShape);
+  const Matcher shaped = db.matcher(FeatureSet::kDynamicStaticShape);
+  const Match ms = shaped.identify(gaitFeatures(alice[3].model));
+  EXPECT_EQ(ms.subject_id, alice_id);
+  EXPECT_EQ(ms.frame, alice[3].frame);
+  EXPECT_LT(ms.score, 1e-4);
 }
 
 TEST_F(GalleryDatabaseTest, FileIsInWalModeWithSchemaVersion) {
