@@ -1,3 +1,4 @@
+#include <body_gait_id/enrollment.h>
 #include <body_gait_id/eval/fit_cache.h>
 #include <body_gait_id/eval/gait_id_evaluation.h>
 #include <body_gait_id/matcher.h>
@@ -461,27 +462,8 @@ FeatureNoise crossWalkNoise(const FittedWalks& walks, View view, int trial_a, in
 
 FittedWalks withMedianBody(FittedWalks walks) {
   for (auto& person : walks)
-    for (auto& walk : person) {
-      if (!walk) continue;
-      body_gait::RepresentativePoses& poses = *walk;
-      const auto median4 = [](std::array<double, 4> v) {
-        std::sort(v.begin(), v.end());
-        return (v[1] + v[2]) / 2;
-      };
-      const auto each = [&](auto get) {
-        const double m = median4({get(poses[0]), get(poses[1]), get(poses[2]), get(poses[3])});
-        for (body_gait::BodyModel& pose : poses) get(pose) = m;
-      };
-      for (int s = 0; s < body_gait::kSegmentCount; ++s) {
-        each([s](body_gait::BodyModel& m) -> double& { return m.r[s]; });
-        each([s](body_gait::BodyModel& m) -> double& { return m.shape.proximal_radius[s]; });
-        each([s](body_gait::BodyModel& m) -> double& { return m.shape.distal_radius[s]; });
-      }
-      each([](body_gait::BodyModel& m) -> double& { return m.shape.shoulder_half_width; });
-      each([](body_gait::BodyModel& m) -> double& { return m.shape.shoulder_drop; });
-      each([](body_gait::BodyModel& m) -> double& { return m.shape.hip_half_width; });
-      each([](body_gait::BodyModel& m) -> double& { return m.shape.hip_rise; });
-    }
+    for (auto& walk : person)
+      if (walk) walk = body_gait_id::withMedianBody(*walk);
   return walks;
 }
 

@@ -7,12 +7,19 @@
 //                    [--columns C] [--noise SIGMA_M] [--threads T] [--cache DIR] [--seed S]
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
 //                    [--probe-frames interpolated|all] [--per-walk 1]
-//                    [--report FILE.yaml] [--plot FILE.png] [--quiet 1]
+//                    [--shape 1] [--noise-seed S2 [--noise-subjects N2]] [--walk-body mean|median]
+//                    [--measure-noise 1] [--report FILE.yaml] [--plot FILE.png] [--quiet 1]
 //
 // --scanner truth skips scan and fit (models read off the simulator's skeleton): the upper
 // bound of the features on these people, to tell the fitter's share of the errors.
 // --per-walk 1 (cross-walk) adds the 3D rows with one decision per probe walk (the mean of a
 // subject's scores over the walk's 20 frames) beside the per-frame decisions.
+// Beyond the thesis (issue 6, cross-walk): --shape 1 adds the 3D dynamic+static+shape row
+// (bodyShapeFeatures); --noise-seed S2 fits N2 (default 50) other people (seed S2, two walks) to
+// learn each feature component's within-subject noise and adds the noise-weighted 3D rows
+// (noiseWeights); --walk-body median takes each walk's body measures as the median of its four
+// fits instead of eq 5.13's mean; --measure-noise 1 prints how steady each body measure is
+// between a person's walks against its spread between people.
 // Thesis protocol: the probes are eta3's 16 interpolated frames per person as in the thesis
 // (96 poses of 6 subjects); --probe-frames all adds the 4 representative frames, which are in
 // the training sets too. Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
@@ -29,16 +36,16 @@ namespace {
 using namespace body_gait_id::eval;
 
 [[noreturn]] void usage(const std::string& problem) {
-  std::fprintf(
-      stderr,
-      "evaluate_gait_id: %s\n"
-      "usage: evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N (>= 2; "
-      "default 6, cross-walk 50)] [--scanner sampler|full|truth] [--columns C (>= 20)] "
-      "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
-      "[--transform none|pca|lda] [--components K] [--rows all|3d] "
-      "[--probe-frames interpolated|all] [--per-walk 1] [--report FILE.yaml] [--plot FILE.png] "
-      "[--quiet 1]\n",
-      problem.c_str());
+  std::fprintf(stderr,
+               "evaluate_gait_id: %s\n"
+               "usage: evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N (>= 2; "
+               "default 6, cross-walk 50)] [--scanner sampler|full|truth] [--columns C (>= 20)] "
+               "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
+               "[--transform none|pca|lda] [--components K] [--rows all|3d] "
+               "[--probe-frames interpolated|all] [--per-walk 1] [--shape 1] [--noise-seed S2 "
+               "[--noise-subjects N2 (default 50)]] [--walk-body mean|median] [--measure-noise 1] "
+               "[--report FILE.yaml] [--plot FILE.png] [--quiet 1]\n",
+               problem.c_str());
   std::exit(2);
 }
 
@@ -60,7 +67,7 @@ int main(int argc, char** argv) {
   ProbeFrames probe_frames = ProbeFrames::kInterpolated;
   bool per_walk = false, measure_noise = false, shape = false, median_body = false;
   std::uint32_t noise_seed = 0;  // 0: no noise-weighted rows
-  int noise_subjects = 30;
+  int noise_subjects = 50;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--help" || flag == "-h") usage("evaluates gait identification");

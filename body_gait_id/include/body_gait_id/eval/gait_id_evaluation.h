@@ -136,9 +136,7 @@ struct MeasureNoise {
 FeatureNoise crossWalkNoise(const FittedWalks& walks, View view = View::k3D, int trial_a = 0,
                             int trial_b = 1);
 
-// Every walk's r and body shape replaced, in each of its four poses, by the component-wise
-// median over the four fits (median of 4 = mean of the middle two), so eq 5.13's mean of the
-// four gives a robust mean. Left/right stay as fitted.
+// body_gait_id::withMedianBody (enrollment.h) applied to every fitted walk.
 FittedWalks withMedianBody(FittedWalks walks);
 
 std::vector<MeasureNoise> bodyMeasureNoise(const FittedWalks& walks, int trial_a = 0,
