@@ -494,12 +494,14 @@ FeatureNormalization GalleryDatabase::normalization(View view) const {
   return n;
 }
 
-Matcher GalleryDatabase::matcher(FeatureSet set, View view) const {
+Matcher GalleryDatabase::matcher(FeatureSet set, View view, const FeatureNoise* noise) const {
   std::vector<GalleryPose> gallery = poses(view);
   if (gallery.empty())
     throw GalleryError("gallery database '" + path_ +
                        "' has no enrolled subjects: enrol at least one subject first");
-  return Matcher(std::move(gallery), set, normalization(view));
+  FeatureNormalization n = normalization(view);
+  if (noise) n.weights = noiseWeights(n, *noise, set);
+  return Matcher(std::move(gallery), set, std::move(n));
 }
 
 }  // namespace body_gait_id

@@ -96,8 +96,10 @@ class GalleryDatabase {
   // The stored statistics of eqs 5.14-5.15 for a view. Throws GalleryError if the gallery is
   // empty.
   FeatureNormalization normalization(View view = View::k3D) const;
-  // A matcher over the stored gallery with the stored statistics.
-  Matcher matcher(FeatureSet set, View view = View::k3D) const;
+  // A matcher over the stored gallery with the stored statistics; with `noise`, each
+  // component weighted by noiseWeights (between / within-subject SD). Throws
+  // std::invalid_argument when the noise does not fit the view or set (2D views have none).
+  Matcher matcher(FeatureSet set, View view = View::k3D, const FeatureNoise* noise = nullptr) const;
 
   const std::string& path() const { return path_; }
 

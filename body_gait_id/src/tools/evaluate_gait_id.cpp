@@ -8,7 +8,8 @@
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
 //                    [--probe-frames interpolated|all] [--per-walk 1]
 //                    [--shape 1] [--noise-seed S2 [--noise-subjects N2]] [--walk-body mean|median]
-//                    [--measure-noise 1] [--report FILE.yaml] [--plot FILE.png] [--quiet 1]
+//                    [--write-noise FILE.yaml] [--measure-noise 1] [--report FILE.yaml] [--plot
+//                    FILE.png] [--quiet 1]
 //
 // --scanner truth skips scan and fit (models read off the simulator's skeleton): the upper
 // bound of the features on these people, to tell the fitter's share of the errors.
@@ -18,13 +19,16 @@
 // (bodyShapeFeatures); --noise-seed S2 fits N2 (default 50) other people (seed S2, two walks) to
 // learn each feature component's within-subject noise and adds the noise-weighted 3D rows
 // (noiseWeights); --walk-body median takes each walk's body measures as the median of its four
-// fits instead of eq 5.13's mean; --measure-noise 1 prints how steady each body measure is
-// between a person's walks against its spread between people.
-// Thesis protocol: the probes are eta3's 16 interpolated frames per person as in the thesis
-// (96 poses of 6 subjects); --probe-frames all adds the 4 representative frames, which are in
-// the training sets too. Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
+// fits instead of eq 5.13's mean; --write-noise saves the learned noise for gait_id_node's
+// ~feature_noise and gait_gallery's --feature-noise; --measure-noise 1 prints how steady each body
+// measure is between a person's walks against its spread between people. Thesis protocol: the
+// probes are eta3's 16 interpolated frames per person as in the thesis (96 poses of 6 subjects);
+// --probe-frames all adds the 4 representative frames, which are in the training sets too.
+// Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
 #include <body_gait_id/eval/gait_id_evaluation.h>
+#include <body_gait_id/feature_noise_file.h>
 #include <body_gait_model/eval/gait_subjects.h>
+#include <body_scan_driver/atomic_file.h>
 
 #include <cmath>
 #include <cstdio>
@@ -59,7 +63,7 @@ double number(const char* text, const std::string& flag) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string protocol = "thesis", report_path, plot_path, rows_choice = "all";
+  std::string protocol = "thesis", report_path, plot_path, rows_choice = "all", noise_path;
   int subjects = 0;
   std::uint32_t seed = 1;
   ScanOptions scan;
@@ -135,6 +139,8 @@ int main(int argc, char** argv) {
       noise_seed = static_cast<std::uint32_t>(number(value, flag));
     } else if (flag == "--noise-subjects") {
       noise_subjects = static_cast<int>(number(value, flag));
+    } else if (flag == "--write-noise") {
+      noise_path = value;
     } else if (flag == "--walk-body") {
       const std::string kind = value;
       if (kind != "mean" && kind != "median")
@@ -156,6 +162,8 @@ int main(int argc, char** argv) {
   if (noise_seed != 0 && noise_seed == seed)
     usage("--noise-seed must differ from --seed: the noise is learned on other people");
   if (noise_seed != 0 && noise_subjects < 2) usage("--noise-subjects must be >= 2");
+  if (!noise_path.empty() && noise_seed == 0)
+    usage("--write-noise needs --noise-seed (the people the noise is learned on)");
 
   const std::vector<body_gait::eval::SimulatedPerson> persons =
       body_gait::eval::simulatedPeople(subjects, seed);
@@ -191,6 +199,16 @@ int main(int argc, char** argv) {
       if (median_body) dev_walks = withMedianBody(std::move(dev_walks));
       weighted.kind = FeatureTransform::kNoiseWeighted;
       weighted.noise = crossWalkNoise(dev_walks);
+      if (!noise_path.empty()) {
+        const std::string source = std::string(scan.scanner == ScannerKind::kFull      ? "full"
+                                               : scan.scanner == ScannerKind::kSampler ? "sampler"
+                                                                                       : "truth") +
+                                   " scanner, " + std::to_string(noise_subjects) +
+                                   " people, seed " + std::to_string(noise_seed) + ", " +
+                                   (median_body ? "median" : "mean") + " body of a walk";
+        body_scan::writeFileAtomically(noise_path,
+                                       body_gait_id::featureNoiseYaml(weighted.noise, source));
+      }
     }
     if (measure_noise && cross_walk) {
       std::printf("%-30s %9s %9s %9s %7s\n", "measure (walk = mean of 4 fits)", "mean", "between",
