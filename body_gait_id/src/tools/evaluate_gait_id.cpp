@@ -8,8 +8,8 @@
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
 //                    [--probe-frames interpolated|all] [--per-walk 1]
 //                    [--shape 1] [--noise-seed S2 [--noise-subjects N2]] [--walk-body mean|median]
-//                    [--write-noise FILE.yaml] [--measure-noise 1] [--report FILE.yaml] [--plot
-//                    FILE.png] [--quiet 1]
+//                    [--write-noise FILE.yaml | --noise-file FILE.yaml] [--measure-noise 1]
+//                    [--report FILE.yaml] [--plot FILE.png] [--quiet 1]
 //
 // --scanner truth skips scan and fit (models read off the simulator's skeleton): the upper
 // bound of the features on these people, to tell the fitter's share of the errors.
@@ -20,7 +20,8 @@
 // learn each feature component's within-subject noise and adds the noise-weighted 3D rows
 // (noiseWeights); --walk-body median takes each walk's body measures as the median of its four
 // fits instead of eq 5.13's mean; --write-noise saves the learned noise for gait_id_node's
-// ~feature_noise and gait_gallery's --feature-noise; --measure-noise 1 prints how steady each body
+// ~feature_noise and gait_gallery's --feature-noise, --noise-file weighs by a saved noise
+// instead of learning it; --measure-noise 1 prints how steady each body
 // measure is between a person's walks against its spread between people. Thesis protocol: the
 // probes are eta3's 16 interpolated frames per person as in the thesis (96 poses of 6 subjects);
 // --probe-frames all adds the 4 representative frames, which are in the training sets too.
@@ -63,7 +64,8 @@ double number(const char* text, const std::string& flag) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string protocol = "thesis", report_path, plot_path, rows_choice = "all", noise_path;
+  std::string protocol = "thesis", report_path, plot_path, rows_choice = "all", noise_path,
+              noise_file;
   int subjects = 0;
   std::uint32_t seed = 1;
   ScanOptions scan;
@@ -139,6 +141,8 @@ int main(int argc, char** argv) {
       noise_seed = static_cast<std::uint32_t>(number(value, flag));
     } else if (flag == "--noise-subjects") {
       noise_subjects = static_cast<int>(number(value, flag));
+    } else if (flag == "--noise-file") {
+      noise_file = value;
     } else if (flag == "--write-noise") {
       noise_path = value;
     } else if (flag == "--walk-body") {
@@ -162,6 +166,8 @@ int main(int argc, char** argv) {
   if (noise_seed != 0 && noise_seed == seed)
     usage("--noise-seed must differ from --seed: the noise is learned on other people");
   if (noise_seed != 0 && noise_subjects < 2) usage("--noise-subjects must be >= 2");
+  if (!noise_file.empty() && noise_seed != 0)
+    usage("give --noise-seed (learn the noise) or --noise-file (read it), not both");
   if (!noise_path.empty() && noise_seed == 0)
     usage("--write-noise needs --noise-seed (the people the noise is learned on)");
 
@@ -225,14 +231,19 @@ int main(int argc, char** argv) {
     if (transform.kind != FeatureTransform::kNone)
       add(cross_walk ? crossWalkProtocol(walks, rows_3d, transform)
                      : thesisProtocol(walks, rows_3d, transform, probe_frames));
-    if (noise_seed != 0)
+    if (!noise_file.empty()) {
+      weighted.kind = FeatureTransform::kNoiseWeighted;
+      weighted.noise = body_gait_id::readFeatureNoise(noise_file);
+    }
+    if (weighted.kind == FeatureTransform::kNoiseWeighted)
       add(cross_walk ? crossWalkProtocol(walks, rows_3d, weighted)
                      : thesisProtocol(walks, rows_3d, weighted, probe_frames));
     if (per_walk && cross_walk) {
       add(crossWalkProtocol(walks, rows_3d, {}, true));
       if (transform.kind != FeatureTransform::kNone)
         add(crossWalkProtocol(walks, rows_3d, transform, true));
-      if (noise_seed != 0) add(crossWalkProtocol(walks, rows_3d, weighted, true));
+      if (weighted.kind == FeatureTransform::kNoiseWeighted)
+        add(crossWalkProtocol(walks, rows_3d, weighted, true));
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "evaluate_gait_id: %s\n", e.what());
