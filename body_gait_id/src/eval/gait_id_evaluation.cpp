@@ -378,9 +378,8 @@ std::vector<std::pair<std::string, double>> candidateMeasures(const body_gait::B
   const double trunk = m.r[kLowerTorso] + m.r[kUpperTorso];
   v.push_back({"trunk", trunk});
   v.push_back({"trunk+neck+head", trunk + m.r[kNeck] + m.r[kHead]});
-  v.push_back({"stature chain", (leg_r + leg_l) / 2 + trunk + m.r[kNeck] + m.r[kHead]});
-  v.push_back({"stature chain - drop + rise",
-               (leg_r + leg_l) / 2 + trunk + m.r[kNeck] + m.r[kHead] - m.shape.hip_rise});
+  v.push_back({"leg + trunk + neck + head", (leg_r + leg_l) / 2 + trunk + m.r[kNeck] + m.r[kHead]});
+  v.push_back({"standing height (shape feature)", bodyShapeFeatures(m)[0]});
   for (int s = 0; s < kSegmentCount; ++s)
     v.push_back({std::string("rp ") + segmentInfo(s).name, m.shape.proximal_radius[s]});
   for (int s = 0; s < kSegmentCount; ++s)
