@@ -7,7 +7,8 @@
 //                    [--columns C] [--noise SIGMA_M] [--threads T] [--cache DIR] [--seed S]
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
 //                    [--probe-frames interpolated|all] [--per-walk 1]
-//                    [--shape 1] [--noise-seed S2 [--noise-subjects N2]] [--walk-body mean|median]
+//                    [--shape 1] [--noise-seed S2 [--noise-subjects N2] [--noise-first K]]
+//                    [--walk-body mean|median]
 //                    [--write-noise FILE.yaml | --noise-file FILE.yaml] [--measure-noise 1]
 //                    [--report FILE.yaml] [--plot FILE.png] [--quiet 1]
 //
@@ -17,13 +18,14 @@
 // subject's scores over the walk's 20 frames) beside the per-frame decisions.
 // Beyond the thesis (issue 6, cross-walk): --shape 1 adds the 3D dynamic+static+shape row
 // (bodyShapeFeatures); --noise-seed S2 fits N2 (default 50) other people (seed S2, two walks) to
-// learn each feature component's within-subject noise and adds the noise-weighted 3D rows
-// (noiseWeights); --walk-body median takes each walk's body measures as the median of its four
-// fits instead of eq 5.13's mean; --write-noise saves the learned noise for gait_id_node's
-// ~feature_noise and gait_gallery's --feature-noise, --noise-file weighs by a saved noise
-// instead of learning it; --measure-noise 1 prints how steady each body
-// measure is between a person's walks against its spread between people. Thesis protocol: the
-// probes are eta3's 16 interpolated frames per person as in the thesis (96 poses of 6 subjects);
+// learn each feature component's within-subject noise (--noise-first K: persons K..K+N2-1 of
+// seed S2, so with S2 = S and K >= N the test seed's later people serve) and adds the
+// noise-weighted 3D rows (noiseWeights); --walk-body median takes each walk's body measures as the
+// median of its four fits instead of eq 5.13's mean; --write-noise saves the learned noise for
+// gait_id_node's ~feature_noise and gait_gallery's --feature-noise, --noise-file weighs by a saved
+// noise instead of learning it; --measure-noise 1 prints how steady each body measure is between a
+// person's walks against its spread between people. Thesis protocol: the probes are eta3's 16
+// interpolated frames per person as in the thesis (96 poses of 6 subjects);
 // --probe-frames all adds the 4 representative frames, which are in the training sets too.
 // Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
 #include <body_gait_id/eval/gait_id_evaluation.h>
@@ -48,7 +50,8 @@ using namespace body_gait_id::eval;
                "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
                "[--transform none|pca|lda] [--components K] [--rows all|3d] "
                "[--probe-frames interpolated|all] [--per-walk 1] [--shape 1] [--noise-seed S2 "
-               "[--noise-subjects N2 (default 50)]] [--walk-body mean|median] [--measure-noise 1] "
+               "[--noise-subjects N2 (default 50)] [--noise-first K]] [--walk-body mean|median] "
+               "[--measure-noise 1] "
                "[--report FILE.yaml] [--plot FILE.png] [--quiet 1]\n",
                problem.c_str());
   std::exit(2);
@@ -74,6 +77,7 @@ int main(int argc, char** argv) {
   bool per_walk = false, measure_noise = false, shape = false, median_body = false;
   std::uint32_t noise_seed = 0;  // 0: no noise-weighted rows
   int noise_subjects = 50;
+  int noise_first = 0;  // the development people are persons noise_first.. of the noise seed
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--help" || flag == "-h") usage("evaluates gait identification");
@@ -139,6 +143,8 @@ int main(int argc, char** argv) {
       shape = number(value, flag) != 0;
     } else if (flag == "--noise-seed") {
       noise_seed = static_cast<std::uint32_t>(number(value, flag));
+    } else if (flag == "--noise-first") {
+      noise_first = static_cast<int>(number(value, flag));
     } else if (flag == "--noise-subjects") {
       noise_subjects = static_cast<int>(number(value, flag));
     } else if (flag == "--noise-file") {
@@ -163,8 +169,11 @@ int main(int argc, char** argv) {
   if (subjects < 2) usage("--subjects must be >= 2 (identification needs a choice)");
   if (scan.sampler_columns < 20) usage("--columns must be >= 20");
   if (scan.threads < 1 || scan.threads > 16) usage("--threads must be 1..16");
-  if (noise_seed != 0 && noise_seed == seed)
-    usage("--noise-seed must differ from --seed: the noise is learned on other people");
+  if (noise_first < 0) usage("--noise-first must be >= 0");
+  if (noise_seed != 0 && noise_seed == seed && noise_first < subjects)
+    usage(
+        "--noise-seed equals --seed: give --noise-first >= --subjects, so the noise is "
+        "learned on other people");
   if (noise_seed != 0 && noise_subjects < 2) usage("--noise-subjects must be >= 2");
   if (!noise_file.empty() && noise_seed != 0)
     usage("give --noise-seed (learn the noise) or --noise-file (read it), not both");
@@ -194,14 +203,17 @@ int main(int argc, char** argv) {
     TransformOptions weighted;
     if (noise_seed != 0) {
       // Development people (another seed: nobody of the test set) with two walks each.
+      // Persons 0 .. noise_first - 1 are fitted too (their scans keep their index, so the
+      // cache serves them) and then left out.
       const std::vector<body_gait::eval::SimulatedPerson> development =
-          body_gait::eval::simulatedPeople(noise_subjects, noise_seed);
+          body_gait::eval::simulatedPeople(noise_first + noise_subjects, noise_seed);
       PersonSource dev;
       for (const auto& person : development) dev.names.push_back(person.name);
       dev.spec = [&development](int person, int pose, int trial, double heading) {
         return body_gait::eval::walkingSubject(development[person], pose, trial, heading);
       };
       FittedWalks dev_walks = fitWalks(dev, 2, scan);
+      dev_walks.erase(dev_walks.begin(), dev_walks.begin() + noise_first);
       if (median_body) dev_walks = withMedianBody(std::move(dev_walks));
       weighted.kind = FeatureTransform::kNoiseWeighted;
       weighted.noise = crossWalkNoise(dev_walks);
@@ -209,8 +221,9 @@ int main(int argc, char** argv) {
         const std::string source = std::string(scan.scanner == ScannerKind::kFull      ? "full"
                                                : scan.scanner == ScannerKind::kSampler ? "sampler"
                                                                                        : "truth") +
-                                   " scanner, " + std::to_string(noise_subjects) +
-                                   " people, seed " + std::to_string(noise_seed) + ", " +
+                                   " scanner, " + std::to_string(noise_subjects) + " people from " +
+                                   std::to_string(noise_first) + ", seed " +
+                                   std::to_string(noise_seed) + ", " +
                                    (median_body ? "median" : "mean") + " body of a walk";
         body_scan::writeFileAtomically(noise_path,
                                        body_gait_id::featureNoiseYaml(weighted.noise, source));
