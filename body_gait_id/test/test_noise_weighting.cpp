@@ -10,6 +10,7 @@
 #include <body_gait_model/eval/gait_subjects.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <random>
 
@@ -75,6 +76,26 @@ TEST(NoiseWeighting, ShapeAndWeightsRecoverTheSteadyComponents) {
   // a ~0.32 m upper arm, 2.5 % / 2 of a ~0.43 m thigh (25 % tolerance: 30 people).
   EXPECT_NEAR(weighted.noise.statics[body_gait::kRightUpperArm], 0.10 * 0.32 / 2, 0.004);
   EXPECT_NEAR(weighted.noise.statics[body_gait::kRightUpperLeg], 0.025 * 0.43 / 2, 0.0013);
+
+  // --measure-noise's table sees the same: the upper arm's within-subject SD is the noise put in
+  // (a walk = mean of 4 poses), the thigh's a quarter of it, the leg (thigh + shank) steadier
+  // relative to its spread between people than the arm.
+  const std::vector<MeasureNoise> measures = bodyMeasureNoise(test);
+  const auto measure = [&measures](const std::string& name) {
+    for (const MeasureNoise& m : measures)
+      if (m.name == name) return m;
+    throw std::invalid_argument("no measure " + name);
+  };
+  EXPECT_EQ(measure("r right_upper_arm").people, 20);
+  EXPECT_NEAR(measure("r right_upper_arm").within_sd, 0.10 * 0.32 / 2, 0.005);
+  EXPECT_NEAR(measure("r right_upper_leg").within_sd, 0.025 * 0.43 / 2, 0.0018);
+  const auto fisher = [&measure](const std::string& name) {
+    return std::pow(measure(name).between_sd / measure(name).within_sd, 2);
+  };
+  std::printf("upper arm within %.4f m, thigh within %.4f m, F leg %.1f, F arm %.1f\n",
+              measure("r right_upper_arm").within_sd, measure("r right_upper_leg").within_sd,
+              fisher("leg mean"), fisher("arm mean"));
+  EXPECT_GT(fisher("leg mean"), 5 * fisher("arm mean"));
 
   const FeatureRow plain{"3D dynamic+static", View::k3D, FeatureSet::kDynamicStatic, {}};
   const std::vector<NamedMetrics> results[] = {

@@ -349,9 +349,6 @@ std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
   return results;
 }
 
-}  // namespace body_gait_id::eval
-
-namespace body_gait_id::eval {
 namespace {
 
 // Candidate static measures of one fitted pose: the lengths r, chain sums (whose shared joints'
