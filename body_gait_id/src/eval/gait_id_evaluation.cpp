@@ -122,6 +122,43 @@ class ProjectedRanker {
   std::vector<std::pair<std::int64_t, int>> ids_;  // subject, frame
 };
 
+// Ranking by the truncated distance sqrt(sum_i min(d_i^2, c^2)) over weighted normalized
+// components d_i (noise units): best gallery pose per subject, best first.
+class TruncatedRanker {
+ public:
+  TruncatedRanker(const std::vector<GalleryPose>& gallery, FeatureSet set,
+                  const FeatureNormalization& normalization, double truncate_sigmas)
+      : set_(set), normalization_(normalization), limit_(truncate_sigmas * truncate_sigmas) {
+    rows_.resize(gallery.size(), normalization_.size(set));
+    for (std::size_t i = 0; i < gallery.size(); ++i) {
+      rows_.row(i) = normalization_.normalized(gallery[i].features, set).transpose();
+      ids_.push_back({gallery[i].subject_id, gallery[i].frame});
+    }
+  }
+
+  std::vector<RankedCandidate> rank(const GaitFeatures& probe) const {
+    const Eigen::RowVectorXd y = normalization_.normalized(probe, set_).transpose();
+    std::map<std::int64_t, RankedCandidate> best;
+    for (Eigen::Index i = 0; i < rows_.rows(); ++i) {
+      const double score = std::sqrt((rows_.row(i) - y).array().square().min(limit_).sum());
+      auto [it, inserted] = best.try_emplace(ids_[i].first, RankedCandidate{});
+      if (inserted || score < it->second.score) it->second = {ids_[i].first, ids_[i].second, score};
+    }
+    std::vector<RankedCandidate> ranked;
+    for (const auto& [id, candidate] : best) ranked.push_back(candidate);
+    std::stable_sort(ranked.begin(), ranked.end(),
+                     [](const auto& a, const auto& b) { return a.score < b.score; });
+    return ranked;
+  }
+
+ private:
+  FeatureSet set_;
+  FeatureNormalization normalization_;
+  double limit_;
+  Eigen::MatrixXd rows_;
+  std::vector<std::pair<std::int64_t, int>> ids_;  // subject, frame
+};
+
 std::string transformSuffix(const TransformOptions& transform) {
   switch (transform.kind) {
     case FeatureTransform::kPca:
@@ -129,7 +166,7 @@ std::string transformSuffix(const TransformOptions& transform) {
     case FeatureTransform::kLda:
       return " LDA";
     case FeatureTransform::kNoiseWeighted:
-      return " weighted";
+      return transform.truncate_sigmas > 0 ? " weighted robust" : " weighted";
     default:
       return "";
   }
@@ -268,6 +305,7 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row, int gal
 
   std::optional<Matcher> matcher;
   std::optional<ProjectedRanker> ranker;
+  std::optional<TruncatedRanker> robust;
   if (transform.kind == FeatureTransform::kNone) {
     matcher.emplace(gallery, row.set);
   } else if (transform.kind == FeatureTransform::kNoiseWeighted) {
@@ -275,7 +313,10 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row, int gal
     for (const GalleryPose& pose : gallery) features.push_back(pose.features);
     FeatureNormalization normalization = FeatureNormalization::fit(features);
     normalization.weights = noiseWeights(normalization, transform.noise, row.set);
-    matcher.emplace(gallery, row.set, normalization);
+    if (transform.truncate_sigmas > 0)
+      robust.emplace(gallery, row.set, normalization, transform.truncate_sigmas);
+    else
+      matcher.emplace(gallery, row.set, normalization);
   } else {
     ranker.emplace(gallery, row.set, transform);
   }
@@ -301,6 +342,8 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row, int gal
       if (matcher) {
         for (const Match& m : matcher->rankSubjects(features))
           probe.candidates.push_back({m.subject_id, m.frame, m.score});
+      } else if (robust) {
+        probe.candidates = robust->rank(features);
       } else {
         probe.candidates = ranker->rank(features);
       }

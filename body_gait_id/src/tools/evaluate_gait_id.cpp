@@ -9,7 +9,8 @@
 //                    [--probe-frames interpolated|all] [--per-walk 1]
 //                    [--shape 1] [--noise-seed S2 [--noise-subjects N2] [--noise-first K]]
 //                    [--walk-body mean|median]
-//                    [--write-noise FILE.yaml | --noise-file FILE.yaml] [--measure-noise 1]
+//                    [--write-noise FILE.yaml | --noise-file FILE.yaml] [--robust-sigmas C]
+//                    [--measure-noise 1]
 //                    [--report FILE.yaml] [--plot FILE.png] [--quiet 1]
 //
 // --scanner truth skips scan and fit (models read off the simulator's skeleton): the upper
@@ -23,9 +24,11 @@
 // noise-weighted 3D rows (noiseWeights); --walk-body median takes each walk's body measures as the
 // median of its four fits instead of eq 5.13's mean; --write-noise saves the learned noise for
 // gait_id_node's ~feature_noise and gait_gallery's --feature-noise, --noise-file weighs by a saved
-// noise instead of learning it; --measure-noise 1 prints how steady each body measure is between a
-// person's walks against its spread between people. Thesis protocol: the probes are eta3's 16
-// interpolated frames per person as in the thesis (96 poses of 6 subjects);
+// noise instead of learning it; --robust-sigmas C adds weighted rows whose distance counts each
+// component at most C noise SDs (robust to one failed component; brute force); --measure-noise 1
+// prints how steady each body measure is between a person's walks against its spread between
+// people. Thesis protocol: the probes are eta3's 16 interpolated frames per person as in the thesis
+// (96 poses of 6 subjects);
 // --probe-frames all adds the 4 representative frames, which are in the training sets too.
 // Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
 #include <body_gait_id/eval/gait_id_evaluation.h>
@@ -51,8 +54,8 @@ using namespace body_gait_id::eval;
                "[--transform none|pca|lda] [--components K] [--rows all|3d] "
                "[--probe-frames interpolated|all] [--per-walk 1] [--shape 1] [--noise-seed S2 "
                "[--noise-subjects N2 (default 50)] [--noise-first K]] [--walk-body mean|median] "
-               "[--measure-noise 1] "
-               "[--report FILE.yaml] [--plot FILE.png] [--quiet 1]\n",
+               "[--write-noise FILE.yaml | --noise-file FILE.yaml] [--robust-sigmas C] "
+               "[--measure-noise 1] [--report FILE.yaml] [--plot FILE.png] [--quiet 1]\n",
                problem.c_str());
   std::exit(2);
 }
@@ -77,7 +80,9 @@ int main(int argc, char** argv) {
   bool per_walk = false, measure_noise = false, shape = false, median_body = false;
   std::uint32_t noise_seed = 0;  // 0: no noise-weighted rows
   int noise_subjects = 50;
-  int noise_first = 0;  // the development people are persons noise_first.. of the noise seed
+  int noise_first = 0;
+  double robust_sigmas = 0;  // > 0: also the weighted rows with the truncated distance  // the
+                             // development people are persons noise_first.. of the noise seed
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--help" || flag == "-h") usage("evaluates gait identification");
@@ -143,6 +148,8 @@ int main(int argc, char** argv) {
       shape = number(value, flag) != 0;
     } else if (flag == "--noise-seed") {
       noise_seed = static_cast<std::uint32_t>(number(value, flag));
+    } else if (flag == "--robust-sigmas") {
+      robust_sigmas = number(value, flag);
     } else if (flag == "--noise-first") {
       noise_first = static_cast<int>(number(value, flag));
     } else if (flag == "--noise-subjects") {
@@ -248,6 +255,12 @@ int main(int argc, char** argv) {
       weighted.kind = FeatureTransform::kNoiseWeighted;
       weighted.noise = body_gait_id::readFeatureNoise(noise_file);
     }
+    TransformOptions robust = weighted;
+    robust.truncate_sigmas = robust_sigmas;
+    const bool with_robust = weighted.kind == FeatureTransform::kNoiseWeighted && robust_sigmas > 0;
+    if (with_robust)
+      add(cross_walk ? crossWalkProtocol(walks, rows_3d, robust)
+                     : thesisProtocol(walks, rows_3d, robust, probe_frames));
     if (weighted.kind == FeatureTransform::kNoiseWeighted)
       add(cross_walk ? crossWalkProtocol(walks, rows_3d, weighted)
                      : thesisProtocol(walks, rows_3d, weighted, probe_frames));
@@ -257,6 +270,7 @@ int main(int argc, char** argv) {
         add(crossWalkProtocol(walks, rows_3d, transform, true));
       if (weighted.kind == FeatureTransform::kNoiseWeighted)
         add(crossWalkProtocol(walks, rows_3d, weighted, true));
+      if (with_robust) add(crossWalkProtocol(walks, rows_3d, robust, true));
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "evaluate_gait_id: %s\n", e.what());

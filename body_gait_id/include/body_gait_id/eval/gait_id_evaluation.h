@@ -79,6 +79,11 @@ struct TransformOptions {
   FeatureTransform kind = FeatureTransform::kNone;
   int components = 0;
   FeatureNoise noise;  // kNoiseWeighted only
+  // kNoiseWeighted only, > 0: a robust distance instead of eq 5.16's L2: each component's
+  // difference (in noise SDs, which the weighted components are) counts at most this many
+  // SDs, so one failed component of a fit (a heavy-tailed error) cannot outweigh the rest.
+  // Ranked by a brute-force scan (the k-d tree's bounds are for L2).
+  double truncate_sigmas = 0;
 };
 
 // Which frames of eta3 probe: the 16 interpolated ones, or all 20 (with the representative
