@@ -5,9 +5,10 @@
 //
 // The synthetic people walk alike, as people do: one common cycle of 22 joint angles, personal
 // amplitude (CV 15 %), phase (0.2 rad) and offset (0.05 rad) deviations, segment lengths with
-// CV 5 %; every training pose carries 0.02 rad / 5 mm fitting noise. A genuine probe is an
-// enrolled person at a phase between the training frames (new noise); an impostor probe is a
-// person not enrolled (open-set rejection queries, the slow case for any pruning).
+// CV 5 %, 24 body-shape measures with CV 6 %; every training pose carries 0.02 rad / 5 mm / 2 mm
+// fitting noise. A genuine probe is an enrolled person at a phase between the training frames
+// (new noise); an impostor probe is a person not enrolled (open-set rejection queries, the slow
+// case for any pruning).
 #include <benchmark/benchmark.h>
 #include <body_gait_id/matcher.h>
 
@@ -23,11 +24,11 @@ constexpr int kPosesPerSubject = 40;  // eta1 + eta2, 2 x 20 (5.8.3)
 constexpr int kProbes = 512;
 
 struct Person {
-  Eigen::VectorXd amplitude, phase, offset, lengths;
+  Eigen::VectorXd amplitude, phase, offset, lengths, shape;
 };
 
 struct Population {
-  Eigen::VectorXd amplitude, phase, lengths;  // the common gait and body
+  Eigen::VectorXd amplitude, phase, lengths, shape;  // the common gait and body
   std::mt19937 rng{42};
 
   Population() {
@@ -39,25 +40,29 @@ struct Population {
       phase[k] = 2 * M_PI * uniform(rng);
     }
     lengths = (Eigen::VectorXd::LinSpaced(12, 0.1, 0.5));
+    shape = Eigen::VectorXd::LinSpaced(kShapeSize, 0.03, 0.2);
+    shape[0] = 1.7;  // standing height
   }
   Person person() {
     std::normal_distribution<double> normal;
-    Person p{amplitude, phase, Eigen::VectorXd(22), lengths};
+    Person p{amplitude, phase, Eigen::VectorXd(22), lengths, shape};
     for (int k = 0; k < 22; ++k) {
       p.amplitude[k] *= 1 + 0.15 * normal(rng);
       p.phase[k] += 0.2 * normal(rng);
       p.offset[k] = 0.05 * normal(rng);
     }
     for (int k = 0; k < 12; ++k) p.lengths[k] *= 1 + 0.05 * normal(rng);
+    for (int k = 0; k < kShapeSize; ++k) p.shape[k] *= 1 + 0.06 * normal(rng);
     return p;
   }
   GaitFeatures pose(const Person& p, double cycle_phase) {
     std::normal_distribution<double> normal;
-    GaitFeatures f{Eigen::VectorXd(22), p.lengths};
+    GaitFeatures f{Eigen::VectorXd(22), p.lengths, p.shape};
     for (int k = 0; k < 22; ++k)
       f.dynamic[k] =
           p.offset[k] + p.amplitude[k] * std::sin(cycle_phase + p.phase[k]) + 0.02 * normal(rng);
     for (int k = 0; k < 12; ++k) f.statics[k] += 0.005 * normal(rng);
+    for (int k = 0; k < kShapeSize; ++k) f.shape[k] += 0.002 * normal(rng);
     return f;
   }
 };
@@ -108,7 +113,9 @@ const M& cached(int poses, FeatureSet set) {
 template <typename M>
 void identify(benchmark::State& state, bool genuine) {
   const int poses = static_cast<int>(state.range(0));
-  const FeatureSet set = state.range(1) ? FeatureSet::kDynamicStatic : FeatureSet::kDynamic;
+  const FeatureSet set = state.range(1) == 2   ? FeatureSet::kDynamicStaticShape
+                         : state.range(1) == 1 ? FeatureSet::kDynamicStatic
+                                               : FeatureSet::kDynamic;
   const Fixture& data = fixture(poses);
   const M& matcher = cached<M>(poses, set);
   const std::vector<GaitFeatures>& probes = genuine ? data.genuine : data.impostor;
@@ -155,10 +162,11 @@ void rankSubjects(benchmark::State& state) {
 }
 BENCHMARK(rankSubjects)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMicrosecond);
 
-// Arguments: gallery poses, feature set (0 dynamic, 1 dynamic + static).
+// Arguments: gallery poses, feature set (0 dynamic, 1 dynamic + static, 2 + body shape).
 void sizes(benchmark::internal::Benchmark* b) {
   for (int set : {1, 0})
     for (int poses : {10'000, 100'000, 1'000'000}) b->Args({poses, set});
+  for (int poses : {10'000, 100'000}) b->Args({poses, 2});
   b->Unit(benchmark::kMicrosecond);
 }
 

@@ -1,6 +1,8 @@
 // Enrolment poses of thesis 5.8.3 from body_gait_model's gait-cycle reconstruction.
 #include <body_gait_id/enrollment.h>
 
+#include <algorithm>
+#include <array>
 #include <stdexcept>
 #include <string>
 
@@ -18,6 +20,27 @@ std::vector<PoseRecord> trainingPoses(const body_gait::RepresentativePoses& s) {
       poses.push_back({0, sequence, static_cast<int>(f) + 1, cycle.frames[f]});
   }
   return poses;
+}
+
+body_gait::RepresentativePoses withMedianBody(const body_gait::RepresentativePoses& s) {
+  body_gait::RepresentativePoses out = s;
+  // Sets one body measure (picked by `get`) of every pose to the median of the four.
+  const auto median = [&out](auto get) {
+    std::array<double, 4> v;
+    for (int i = 0; i < 4; ++i) v[i] = get(out[i]);
+    std::sort(v.begin(), v.end());
+    for (body_gait::BodyModel& pose : out) get(pose) = (v[1] + v[2]) / 2;
+  };
+  for (int k = 0; k < body_gait::kSegmentCount; ++k) {
+    median([k](body_gait::BodyModel& m) -> double& { return m.r[k]; });
+    median([k](body_gait::BodyModel& m) -> double& { return m.shape.proximal_radius[k]; });
+    median([k](body_gait::BodyModel& m) -> double& { return m.shape.distal_radius[k]; });
+  }
+  median([](body_gait::BodyModel& m) -> double& { return m.shape.shoulder_half_width; });
+  median([](body_gait::BodyModel& m) -> double& { return m.shape.shoulder_drop; });
+  median([](body_gait::BodyModel& m) -> double& { return m.shape.hip_half_width; });
+  median([](body_gait::BodyModel& m) -> double& { return m.shape.hip_rise; });
+  return out;
 }
 
 body_gait::RepresentativePoses representativePoses(const std::vector<body_gait::BodyModel>& s) {

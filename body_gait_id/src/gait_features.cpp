@@ -71,7 +71,32 @@ GaitFeatures gaitFeatures(const BodyModel& model, View view) {
     case View::k3D:
       break;
   }
-  return {model.q, model.r};  // eqs 5.2, 5.3
+  return {model.q, model.r, bodyShapeFeatures(model)};  // eqs 5.2, 5.3; shape beyond the thesis
+}
+
+Eigen::VectorXd bodyShapeFeatures(const BodyModel& model) {
+  using namespace body_gait;
+  const SegmentLengths& r = model.r;
+  const BodyShape& shape = model.shape;
+  Eigen::VectorXd b(kShapeSize);
+  const double leg =
+      (r[kRightUpperLeg] + r[kRightLowerLeg] + r[kLeftUpperLeg] + r[kLeftLowerLeg]) / 2;
+  b[0] = leg + r[kLowerTorso] - shape.hip_rise + r[kUpperTorso] + r[kNeck] + r[kHead];
+  b[1] = shape.shoulder_half_width;
+  b[2] = shape.hip_half_width;
+  int k = 3;
+  // The lower torso's proximal radius is the upper torso's, neck and head are cylinders.
+  b[k++] = shape.proximal_radius[kUpperTorso];
+  b[k++] = shape.distal_radius[kUpperTorso];
+  b[k++] = shape.distal_radius[kLowerTorso];
+  b[k++] = shape.proximal_radius[kNeck];
+  b[k++] = shape.proximal_radius[kHead];
+  for (int s : {kRightUpperArm, kRightLowerArm, kLeftUpperArm, kLeftLowerArm, kRightUpperLeg,
+                kRightLowerLeg, kLeftUpperLeg, kLeftLowerLeg}) {
+    b[k++] = shape.proximal_radius[s];
+    b[k++] = shape.distal_radius[s];
+  }
+  return b;
 }
 
 FeatureNormalization FeatureNormalization::fit(const std::vector<GaitFeatures>& gallery) {
@@ -87,15 +112,20 @@ void FeatureMoments::add(const GaitFeatures& f, double weight) {
   if (count == 0 && sum_dynamic.size() == 0) {
     sum_dynamic = sum_sq_dynamic = Eigen::VectorXd::Zero(f.dynamic.size());
     sum_static = sum_sq_static = Eigen::VectorXd::Zero(f.statics.size());
+    sum_shape = sum_sq_shape = Eigen::VectorXd::Zero(f.shape.size());
   }
-  if (f.dynamic.size() != sum_dynamic.size() || f.statics.size() != sum_static.size())
+  if (f.dynamic.size() != sum_dynamic.size() || f.statics.size() != sum_static.size() ||
+      f.shape.size() != sum_shape.size())
     throw std::invalid_argument(
-        "feature normalization: gallery features of different sizes (mixed views?)");
+        "feature normalization: gallery features of different sizes (mixed views, or shape "
+        "features on some poses only?)");
   count += weight;
   sum_dynamic += weight * f.dynamic;
   sum_sq_dynamic += weight * f.dynamic.cwiseAbs2();
   sum_static += weight * f.statics;
   sum_sq_static += weight * f.statics.cwiseAbs2();
+  sum_shape += weight * f.shape;
+  sum_sq_shape += weight * f.shape.cwiseAbs2();
 }
 
 FeatureNormalization FeatureMoments::normalization() const {
@@ -119,27 +149,70 @@ FeatureNormalization FeatureMoments::normalization() const {
   n.mean_static = sum_static / count;
   n.sigma_dynamic = sigma(sum_dynamic, sum_sq_dynamic);  // diagonal of the covariance (E, d)
   n.sigma_static = sigma(sum_static, sum_sq_static);
+  if (sum_shape.size() > 0) {
+    n.mean_shape = sum_shape / count;
+    n.sigma_shape = sigma(sum_shape, sum_sq_shape);
+  }
   return n;
 }
 
 int FeatureNormalization::size(FeatureSet set) const {
-  return static_cast<int>(mean_dynamic.size() +
-                          (set == FeatureSet::kDynamicStatic ? mean_static.size() : 0));
+  Eigen::Index n = mean_dynamic.size();
+  if (set != FeatureSet::kDynamic) n += mean_static.size();
+  if (set == FeatureSet::kDynamicStaticShape) n += kShapeSize;
+  return static_cast<int>(n);
 }
 
 Eigen::VectorXd FeatureNormalization::normalized(const GaitFeatures& f, FeatureSet set) const {
   checkSizes("the dynamic feature", f.dynamic, mean_dynamic);
   Eigen::VectorXd phi(size(set));
-  phi.head(mean_dynamic.size()) = (f.dynamic - mean_dynamic).cwiseQuotient(sigma_dynamic);
-  if (set == FeatureSet::kDynamicStatic) {
+  const Eigen::Index nd = mean_dynamic.size(), ns = mean_static.size();
+  phi.head(nd) = (f.dynamic - mean_dynamic).cwiseQuotient(sigma_dynamic);
+  if (set != FeatureSet::kDynamic) {
     checkSizes("the static feature", f.statics, mean_static);
-    phi.tail(mean_static.size()) = (f.statics - mean_static).cwiseQuotient(sigma_static);
+    phi.segment(nd, ns) = (f.statics - mean_static).cwiseQuotient(sigma_static);
+  }
+  if (set == FeatureSet::kDynamicStaticShape) {
+    if (mean_shape.size() != kShapeSize)
+      throw std::invalid_argument(
+          "gait features: the dynamic_static_shape feature set needs 3D features with body shape "
+          "in the gallery; use dynamic or dynamic_static with the 2D views");
+    checkSizes("the shape feature", f.shape, mean_shape);
+    phi.tail(kShapeSize) = (f.shape - mean_shape).cwiseQuotient(sigma_shape);
+  }
+  if (weights.size() > 0) {
+    if (weights.size() != phi.size())
+      throw std::invalid_argument("gait features: " + std::to_string(weights.size()) +
+                                  " component weights for " + std::to_string(phi.size()) +
+                                  " components; fit the weights for the feature set in use");
+    phi = phi.cwiseProduct(weights);
   }
   return phi;
 }
 
 Eigen::VectorXf FeatureNormalization::apply(const GaitFeatures& f, FeatureSet set) const {
   return normalized(f, set).cast<float>();
+}
+
+Eigen::VectorXd noiseWeights(const FeatureNormalization& normalization, const FeatureNoise& noise,
+                             FeatureSet set) {
+  const auto ratio = [](const char* what, const Eigen::VectorXd& sigma, const Eigen::VectorXd& sd) {
+    if (sd.size() != sigma.size())
+      throw std::invalid_argument(std::string("noise weights: the ") + what + " noise has " +
+                                  std::to_string(sd.size()) + " components, the statistics " +
+                                  std::to_string(sigma.size()) +
+                                  "; learn the noise on the same view and feature set");
+    return Eigen::VectorXd(sigma.cwiseQuotient(sd.cwiseMax(1e-9)));
+  };
+  Eigen::VectorXd w(normalization.size(set));
+  const Eigen::Index nd = normalization.sigma_dynamic.size(),
+                     ns = normalization.sigma_static.size();
+  w.head(nd) = ratio("dynamic", normalization.sigma_dynamic, noise.dynamic);
+  if (set != FeatureSet::kDynamic)
+    w.segment(nd, ns) = ratio("static", normalization.sigma_static, noise.statics);
+  if (set == FeatureSet::kDynamicStaticShape)
+    w.tail(kShapeSize) = ratio("shape", normalization.sigma_shape, noise.shape);
+  return w;
 }
 
 }  // namespace body_gait_id

@@ -40,15 +40,17 @@ CREATE TABLE normalization (  -- eqs 5.14-5.15 over the whole gallery, per view
   mean_static BLOB NOT NULL, sigma_static BLOB NOT NULL,
   -- running sums (FeatureMoments): an enrolment or removal updates them from its own poses
   sum_dynamic BLOB NOT NULL, sum_sq_dynamic BLOB NOT NULL,
-  sum_static BLOB NOT NULL, sum_sq_static BLOB NOT NULL);
+  sum_static BLOB NOT NULL, sum_sq_static BLOB NOT NULL,
+  mean_shape BLOB NOT NULL, sigma_shape BLOB NOT NULL,  -- bodyShapeFeatures, 3D only (2D: empty)
+  sum_shape BLOB NOT NULL, sum_sq_shape BLOB NOT NULL);
 )sql";
 
-constexpr int kShapeSize = 2 * body_gait::kSegmentCount + 4;
+constexpr int kShapeBlobSize = 2 * body_gait::kSegmentCount + 4;
 
 constexpr View kViews[] = {View::k3D, View::kFrontal, View::kSide};
 
 Eigen::VectorXd shapeVector(const body_gait::BodyShape& shape) {
-  Eigen::VectorXd v(kShapeSize);
+  Eigen::VectorXd v(kShapeBlobSize);
   for (int i = 0; i < body_gait::kSegmentCount; ++i) {
     v[i] = shape.proximal_radius[i];
     v[body_gait::kSegmentCount + i] = shape.distal_radius[i];
@@ -64,10 +66,10 @@ body_gait::BodyShape shapeFromVector(const Eigen::VectorXd& v) {
     shape.proximal_radius[i] = v[i];
     shape.distal_radius[i] = v[body_gait::kSegmentCount + i];
   }
-  shape.shoulder_half_width = v[kShapeSize - 4];
-  shape.shoulder_drop = v[kShapeSize - 3];
-  shape.hip_half_width = v[kShapeSize - 2];
-  shape.hip_rise = v[kShapeSize - 1];
+  shape.shoulder_half_width = v[kShapeBlobSize - 4];
+  shape.shoulder_drop = v[kShapeBlobSize - 3];
+  shape.hip_half_width = v[kShapeBlobSize - 2];
+  shape.hip_rise = v[kShapeBlobSize - 1];
   return shape;
 }
 
@@ -90,6 +92,10 @@ class Statement {
     check(sqlite3_bind_text(stmt_, i, v.c_str(), int(v.size()), SQLITE_TRANSIENT));
   }
   void bind(int i, const Eigen::VectorXd& v) {
+    if (v.size() == 0) {  // an empty array (a 2D view's shape): a blob of 0 bytes, not NULL
+      check(sqlite3_bind_zeroblob(stmt_, i, 0));
+      return;
+    }
     check(sqlite3_bind_blob(stmt_, i, v.data(), int(v.size() * sizeof(double)), SQLITE_TRANSIENT));
   }
   // True while there is a row.
@@ -181,13 +187,23 @@ View parseView(const std::string& name) {
 }
 
 const char* featureSetName(FeatureSet set) {
-  return set == FeatureSet::kDynamic ? "dynamic" : "dynamic_static";
+  switch (set) {
+    case FeatureSet::kDynamic:
+      return "dynamic";
+    case FeatureSet::kDynamicStaticShape:
+      return "dynamic_static_shape";
+    case FeatureSet::kDynamicStatic:
+      break;
+  }
+  return "dynamic_static";
 }
 
 FeatureSet parseFeatureSet(const std::string& name) {
-  for (FeatureSet set : {FeatureSet::kDynamic, FeatureSet::kDynamicStatic})
+  for (FeatureSet set :
+       {FeatureSet::kDynamic, FeatureSet::kDynamicStatic, FeatureSet::kDynamicStaticShape})
     if (name == featureSetName(set)) return set;
-  throw std::invalid_argument("unknown feature set '" + name + "': use dynamic or dynamic_static");
+  throw std::invalid_argument("unknown feature set '" + name +
+                              "': use dynamic, dynamic_static or dynamic_static_shape");
 }
 
 void GalleryDatabase::fail(int code, const std::string& what) const {
@@ -291,8 +307,8 @@ void GalleryDatabase::createOrCheckSchema() {
     Statement version(db_, "SELECT version FROM schema_version", thrower);
     found = version.step() ? version.integer(0) : -1;
   }
-  if (found == 1) {
-    upgradeFromVersion1();
+  if (found == 1 || found == 2) {
+    upgradeFrom(static_cast<int>(found));
     found = kSchemaVersion;
   }
   if (found > kSchemaVersion)
@@ -305,20 +321,29 @@ void GalleryDatabase::createOrCheckSchema() {
                        "): restore it from a backup or start a new gallery file");
 }
 
-void GalleryDatabase::upgradeFromVersion1() {
+void GalleryDatabase::upgradeFrom(int version_found) {
   const auto thrower = [this](int code, const std::string& what) { fail(code, what); };
   Transaction transaction(db_, thrower);
   {
     Statement version(db_, "SELECT version FROM schema_version", thrower);
-    if (version.step() && version.integer(0) != 1) return;  // another process upgraded it
+    if (version.step() && version.integer(0) != version_found)
+      return;  // another process upgraded it
   }
+  if (version_found == 1)
+    exec(
+        "ALTER TABLE normalization ADD COLUMN sum_dynamic BLOB NOT NULL DEFAULT x'';"
+        "ALTER TABLE normalization ADD COLUMN sum_sq_dynamic BLOB NOT NULL DEFAULT x'';"
+        "ALTER TABLE normalization ADD COLUMN sum_static BLOB NOT NULL DEFAULT x'';"
+        "ALTER TABLE normalization ADD COLUMN sum_sq_static BLOB NOT NULL DEFAULT x'';",
+        "upgrading the schema from version 1");
   exec(
-      "ALTER TABLE normalization ADD COLUMN sum_dynamic BLOB NOT NULL DEFAULT x'';"
-      "ALTER TABLE normalization ADD COLUMN sum_sq_dynamic BLOB NOT NULL DEFAULT x'';"
-      "ALTER TABLE normalization ADD COLUMN sum_static BLOB NOT NULL DEFAULT x'';"
-      "ALTER TABLE normalization ADD COLUMN sum_sq_static BLOB NOT NULL DEFAULT x'';"
+      "ALTER TABLE normalization ADD COLUMN mean_shape BLOB NOT NULL DEFAULT x'';"
+      "ALTER TABLE normalization ADD COLUMN sigma_shape BLOB NOT NULL DEFAULT x'';"
+      "ALTER TABLE normalization ADD COLUMN sum_shape BLOB NOT NULL DEFAULT x'';"
+      "ALTER TABLE normalization ADD COLUMN sum_sq_shape BLOB NOT NULL DEFAULT x'';"
       "DELETE FROM normalization;",
-      "upgrading the schema from version 1");
+      "upgrading the schema to store the body-shape statistics");
+  // Every sum once from the stored poses (their models carry r and the shape).
   updateNormalization(poseRecords(), +1.0);
   Statement version(db_, "UPDATE schema_version SET version = ?", thrower);
   version.bind(1, kSchemaVersion);
@@ -405,8 +430,8 @@ void GalleryDatabase::updateNormalization(const std::vector<PoseRecord>& poses, 
     FeatureMoments moments;
     {
       Statement read(db_,
-                     "SELECT pose_count, sum_dynamic, sum_sq_dynamic, sum_static, sum_sq_static "
-                     "FROM normalization WHERE view = ?",
+                     "SELECT pose_count, sum_dynamic, sum_sq_dynamic, sum_static, sum_sq_static, "
+                     "sum_shape, sum_sq_shape FROM normalization WHERE view = ?",
                      thrower);
       read.bind(1, name);
       if (read.step()) {
@@ -416,6 +441,9 @@ void GalleryDatabase::updateNormalization(const std::vector<PoseRecord>& poses, 
         moments.sum_sq_dynamic = read.vector(2, nd);
         moments.sum_static = read.vector(3, kStaticSize);
         moments.sum_sq_static = read.vector(4, kStaticSize);
+        const Eigen::Index nb = view == View::k3D ? kShapeSize : 0;
+        moments.sum_shape = read.vector(5, nb);
+        moments.sum_sq_shape = read.vector(6, nb);
       }
     }
     for (const PoseRecord& record : poses) moments.add(gaitFeatures(record.model, view), weight);
@@ -429,7 +457,8 @@ void GalleryDatabase::updateNormalization(const std::vector<PoseRecord>& poses, 
     Statement store(db_,
                     "INSERT OR REPLACE INTO normalization (view, pose_count, mean_dynamic, "
                     "sigma_dynamic, mean_static, sigma_static, sum_dynamic, sum_sq_dynamic, "
-                    "sum_static, sum_sq_static) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                    "sum_static, sum_sq_static, mean_shape, sigma_shape, sum_shape, sum_sq_shape) "
+                    "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
                     thrower);
     store.bind(1, name);
     store.bind(2, static_cast<std::int64_t>(std::llround(moments.count)));
@@ -441,6 +470,10 @@ void GalleryDatabase::updateNormalization(const std::vector<PoseRecord>& poses, 
     store.bind(8, moments.sum_sq_dynamic);
     store.bind(9, moments.sum_static);
     store.bind(10, moments.sum_sq_static);
+    store.bind(11, n.mean_shape);
+    store.bind(12, n.sigma_shape);
+    store.bind(13, moments.sum_shape);
+    store.bind(14, moments.sum_sq_shape);
     store.step();
   }
 }
@@ -490,7 +523,7 @@ std::vector<PoseRecord> GalleryDatabase::poseRecords(std::int64_t subject_id) co
     record.model.p = list.vector(3, 6);
     record.model.q = list.vector(4, 22);
     record.model.r = list.vector(5, 12);
-    record.model.shape = shapeFromVector(list.vector(6, kShapeSize));
+    record.model.shape = shapeFromVector(list.vector(6, kShapeBlobSize));
     out.push_back(std::move(record));
   }
   return out;
@@ -505,21 +538,29 @@ std::vector<GalleryPose> GalleryDatabase::poses(View view) const {
     return out;
   }
   const auto thrower = [this](int code, const std::string& what) { fail(code, what); };
-  Statement list(db_, "SELECT subject, sequence, frame, dynamic, statics FROM poses ORDER BY id",
+  // The shape measures are computed from the stored r and shape (not stored per pose).
+  Statement list(db_,
+                 "SELECT subject, sequence, frame, dynamic, statics, r, shape FROM poses "
+                 "ORDER BY id",
                  thrower);
-  while (list.step())
+  while (list.step()) {
+    body_gait::BodyModel model;
+    model.r = list.vector(5, kStaticSize);
+    model.shape = shapeFromVector(list.vector(6, kShapeBlobSize));
     out.push_back({list.integer(0),
                    static_cast<int>(list.integer(1)),
                    static_cast<int>(list.integer(2)),
-                   {list.vector(3, dynamicSize(View::k3D)), list.vector(4, kStaticSize)}});
+                   {list.vector(3, dynamicSize(View::k3D)), list.vector(4, kStaticSize),
+                    bodyShapeFeatures(model)}});
+  }
   return out;
 }
 
 FeatureNormalization GalleryDatabase::normalization(View view) const {
   const auto thrower = [this](int code, const std::string& what) { fail(code, what); };
   Statement read(db_,
-                 "SELECT mean_dynamic, sigma_dynamic, mean_static, sigma_static "
-                 "FROM normalization WHERE view = ?",
+                 "SELECT mean_dynamic, sigma_dynamic, mean_static, sigma_static, mean_shape, "
+                 "sigma_shape FROM normalization WHERE view = ?",
                  thrower);
   read.bind(1, std::string(viewName(view)));
   if (!read.step())
@@ -527,16 +568,25 @@ FeatureNormalization GalleryDatabase::normalization(View view) const {
                        "' has no normalization statistics: the gallery is empty; enrol at least "
                        "one subject first");
   const Eigen::Index nd = dynamicSize(view);
-  return {read.vector(0, nd), read.vector(1, nd), read.vector(2, kStaticSize),
-          read.vector(3, kStaticSize)};
+  FeatureNormalization n;
+  n.mean_dynamic = read.vector(0, nd);
+  n.sigma_dynamic = read.vector(1, nd);
+  n.mean_static = read.vector(2, kStaticSize);
+  n.sigma_static = read.vector(3, kStaticSize);
+  const Eigen::Index nb = view == View::k3D ? kShapeSize : 0;  // 2D views: no shape
+  n.mean_shape = read.vector(4, nb);
+  n.sigma_shape = read.vector(5, nb);
+  return n;
 }
 
-Matcher GalleryDatabase::matcher(FeatureSet set, View view) const {
+Matcher GalleryDatabase::matcher(FeatureSet set, View view, const FeatureNoise* noise) const {
   std::vector<GalleryPose> gallery = poses(view);
   if (gallery.empty())
     throw GalleryError("gallery database '" + path_ +
                        "' has no enrolled subjects: enrol at least one subject first");
-  return Matcher(std::move(gallery), set, normalization(view));
+  FeatureNormalization n = normalization(view);
+  if (noise) n.weights = noiseWeights(n, *noise, set);
+  return Matcher(std::move(gallery), set, std::move(n));
 }
 
 }  // namespace body_gait_id

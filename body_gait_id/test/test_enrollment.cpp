@@ -56,5 +56,24 @@ TEST(Enrollment, NeedsExactlyFourPoses) {
   }
 }
 
+// The median of the four fits: one bad fit of a segment does not move it, the angles stay.
+TEST(Enrollment, MedianBodyIgnoresOneBadFit) {
+  body_gait::RepresentativePoses s;
+  const double thigh[4] = {0.42, 0.44, 0.60, 0.43};  // pose 3's thigh badly fitted
+  for (int i = 0; i < 4; ++i) {
+    s[i] = body_gait::standingModel(1.75);
+    s[i].r[body_gait::kRightUpperLeg] = thigh[i];
+    s[i].shape.hip_half_width = 0.08 + 0.01 * i;
+    s[i].q[3] = 0.1 * i;
+  }
+  const body_gait::RepresentativePoses m = withMedianBody(s);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_DOUBLE_EQ(m[i].r[body_gait::kRightUpperLeg], 0.435);  // (0.43 + 0.44) / 2
+    EXPECT_DOUBLE_EQ(m[i].shape.hip_half_width, 0.095);
+    EXPECT_EQ(m[i].q, s[i].q);
+    EXPECT_EQ(m[i].p, s[i].p);
+  }
+}
+
 }  // namespace
 }  // namespace body_gait_id

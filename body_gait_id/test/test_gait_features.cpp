@@ -122,18 +122,22 @@ TEST(FeatureNormalization, ConstantComponentsKeepSigmaOne) {
   std::vector<GaitFeatures> gallery;
   for (int n = 0; n < 40; ++n)
     gallery.push_back({Eigen::VectorXd::Constant(22, 0.01 * n),
-                       (Eigen::VectorXd::LinSpaced(12, 0.093, 0.563).array() + 1.0 / 3).matrix()});
+                       (Eigen::VectorXd::LinSpaced(12, 0.093, 0.563).array() + 1.0 / 3).matrix(),
+                       {}});
   const FeatureNormalization n = FeatureNormalization::fit(gallery);
   EXPECT_EQ(n.sigma_static, Eigen::VectorXd::Ones(12));
   EXPECT_NEAR(n.sigma_dynamic[0], 0.01 * std::sqrt((40.0 * 40.0 - 1) / 12), 1e-12);
 }
 
-// Adding poses and taking them away again gives the statistics of the poses that stay.
+// Adding poses and taking them away again gives the statistics of the poses that stay, the
+// shape's too (checked against a two-pass mean and population SD).
 TEST(FeatureMoments, RemovalLeavesTheStatisticsOfTheRest) {
   std::vector<GaitFeatures> kept, removed;
   for (int n = 0; n < 30; ++n) {
-    GaitFeatures f{Eigen::VectorXd::Constant(3, std::sin(n)), Eigen::VectorXd::Constant(2, 0.4)};
+    GaitFeatures f{Eigen::VectorXd::Constant(3, std::sin(n)), Eigen::VectorXd::Constant(2, 0.4),
+                   Eigen::VectorXd::Constant(2, 0.05)};
     f.statics[1] += 0.01 * std::cos(3 * n);
+    f.shape[0] = 1.7 + 0.05 * std::sin(5 * n);
     (n % 3 == 0 ? removed : kept).push_back(f);
   }
   FeatureMoments moments;
@@ -145,6 +149,16 @@ TEST(FeatureMoments, RemovalLeavesTheStatisticsOfTheRest) {
   EXPECT_LT((incremental.sigma_dynamic - direct.sigma_dynamic).norm(), 1e-12);
   EXPECT_LT((incremental.sigma_static - direct.sigma_static).norm(), 1e-12);
   EXPECT_NE(direct.sigma_static[1], 1.0);
+  double mean = 0, var = 0;
+  for (const GaitFeatures& f : kept) mean += f.shape[0] / kept.size();
+  for (const GaitFeatures& f : kept) var += (f.shape[0] - mean) * (f.shape[0] - mean) / kept.size();
+  ASSERT_EQ(incremental.mean_shape.size(), 2);
+  EXPECT_NEAR(incremental.mean_shape[0], mean, 1e-14);
+  EXPECT_NEAR(incremental.sigma_shape[0], std::sqrt(var), 1e-10);
+  EXPECT_EQ(incremental.sigma_shape[1], 1.0);  // constant: no spread
+  // A pose without shape features among poses with them is refused (mixed views).
+  EXPECT_THROW(moments.add({Eigen::VectorXd::Zero(3), Eigen::VectorXd::Zero(2), {}}),
+               std::invalid_argument);
   for (const GaitFeatures& f : kept) moments.add(f, -1);
   EXPECT_THROW(moments.normalization(), std::invalid_argument);
 }
@@ -161,6 +175,80 @@ TEST(FeatureNormalization, BadInputGivesClearErrors) {
   }
   EXPECT_THROW(FeatureNormalization::fit({gaitFeatures(model), gaitFeatures(model, View::kSide)}),
                std::invalid_argument);
+}
+
+// The standing height of the shape features is the model's own sole-to-head-top extent when it
+// stands upright, whatever its lengths and hip offset.
+TEST(GaitFeatures, ShapeHeightIsTheUprightModelsExtent) {
+  for (double stature : {1.55, 1.75, 1.95}) {
+    BodyModel model = body_gait::standingModel(stature);
+    model.r[body_gait::kLeftLowerLeg] += 0.02;  // legs of unequal length: their mean counts
+    model.r[body_gait::kRightLowerLeg] -= 0.02;
+    model.shape.hip_rise += 0.01;
+    const body_gait::PosedModel posed = body_gait::forwardKinematics(model);
+    const double top = posed.segments[body_gait::kHead].distal.z();
+    const double sole = (posed.segments[body_gait::kLeftLowerLeg].distal.z() +
+                         posed.segments[body_gait::kRightLowerLeg].distal.z()) /
+                        2;
+    const Eigen::VectorXd b = bodyShapeFeatures(model);
+    ASSERT_EQ(b.size(), kShapeSize);
+    EXPECT_NEAR(b[0], top - sole, 1e-9) << stature;
+    EXPECT_EQ(b[1], model.shape.shoulder_half_width);
+    EXPECT_EQ(b[2], model.shape.hip_half_width);
+    EXPECT_EQ(b[3], model.shape.proximal_radius[body_gait::kUpperTorso]);
+    EXPECT_EQ(b[kShapeSize - 1], model.shape.distal_radius[body_gait::kLeftLowerLeg]);
+    EXPECT_EQ(gaitFeatures(model).shape, b);
+    EXPECT_EQ(gaitFeatures(model, View::kSide).shape.size(), 0);  // no girths in a silhouette
+  }
+}
+
+// dynamic_static_shape = [q', r', b'], each block normalized by its own statistics (5.14-5.15).
+TEST(GaitFeatures, ShapeSetAppendsNormalizedShape) {
+  std::vector<GaitFeatures> gallery;
+  for (int i = 0; i < 3; ++i) gallery.push_back(gaitFeatures(turnedModel(0.1 * i)));
+  for (int i = 0; i < 3; ++i) gallery[i].shape[1] = 0.15 + 0.01 * i;  // shoulder half widths
+  const FeatureNormalization n = FeatureNormalization::fit(gallery);
+  ASSERT_EQ(n.size(FeatureSet::kDynamicStaticShape), 22 + 12 + kShapeSize);
+  const Eigen::VectorXd phi = n.normalized(gallery[2], FeatureSet::kDynamicStaticShape);
+  EXPECT_NEAR(phi[34 + 1], 0.01 / std::sqrt(2.0 / 3.0 * 1e-4), 1e-9);  // (x - mu) / sigma
+  EXPECT_EQ(phi[34 + 2], 0.0);  // constant component: sigma 1, no weight
+  // A 2D view's gallery has no shape: the set names its problem.
+  std::vector<GaitFeatures> frontal{gaitFeatures(turnedModel(0.0), View::kFrontal)};
+  const FeatureNormalization nf = FeatureNormalization::fit(frontal);
+  try {
+    nf.normalized(frontal[0], FeatureSet::kDynamicStaticShape);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("dynamic_static_shape"), std::string::npos) << e.what();
+  }
+}
+
+// Weights sigma / noise: a difference of one noise SD in a component scores 1 whatever the
+// component's spread between people.
+TEST(GaitFeatures, NoiseWeightsMeasureInNoiseUnits) {
+  FeatureNormalization n;
+  n.mean_dynamic = Eigen::VectorXd::Zero(2);
+  n.sigma_dynamic = Eigen::Vector2d(2.0, 0.5);
+  n.mean_static = Eigen::VectorXd::Zero(1);
+  n.sigma_static = Eigen::VectorXd::Constant(1, 0.1);
+  FeatureNoise noise{Eigen::Vector2d(0.5, 0.5), Eigen::VectorXd::Constant(1, 0.01), {}};
+  const Eigen::VectorXd w = noiseWeights(n, noise, FeatureSet::kDynamicStatic);
+  ASSERT_EQ(w.size(), 3);
+  EXPECT_DOUBLE_EQ(w[0], 4.0);
+  EXPECT_DOUBLE_EQ(w[1], 1.0);
+  EXPECT_DOUBLE_EQ(w[2], 10.0);
+  n.weights = w;
+  const GaitFeatures a{Eigen::Vector2d(0.5, 0.0), Eigen::VectorXd::Zero(1), {}};
+  const GaitFeatures b{Eigen::Vector2d(0.0, 0.0), Eigen::VectorXd::Constant(1, 0.01), {}};
+  const GaitFeatures origin{Eigen::Vector2d::Zero(), Eigen::VectorXd::Zero(1), {}};
+  const Eigen::VectorXd o = n.normalized(origin, FeatureSet::kDynamicStatic);
+  EXPECT_NEAR((n.normalized(a, FeatureSet::kDynamicStatic) - o).norm(), 1.0, 1e-12);
+  EXPECT_NEAR((n.normalized(b, FeatureSet::kDynamicStatic) - o).norm(), 1.0, 1e-12);
+  // Weights of another set, or noise of another size, are refused with the fix.
+  EXPECT_THROW(n.normalized(a, FeatureSet::kDynamic), std::invalid_argument);
+  EXPECT_THROW(
+      noiseWeights(n, FeatureNoise{Eigen::VectorXd::Ones(3), {}, {}}, FeatureSet::kDynamic),
+      std::invalid_argument);
 }
 
 }  // namespace

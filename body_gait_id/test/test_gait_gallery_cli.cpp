@@ -97,6 +97,34 @@ TEST_F(GaitGalleryCli, EnrolListIdentifyExportRemove) {
   EXPECT_NE(r.output.find("1 subjects"), std::string::npos) << r.output;
 }
 
+// Issue 6's options: median body at enrolment, shape features and noise weights at
+// identification (own poses still exact); a bad noise file or walk body is an error with the fix.
+TEST_F(GaitGalleryCli, ShapeMedianAndNoiseWeights) {
+  CliRun r = run("enroll --name Ada --walk-body median --models " + models_file(0));
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = run("enroll --name Ben --walk-body median --models " + models_file(1));
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = run("identify --feature-set dynamic_static_shape --feature-noise " +
+          std::string(FEATURE_NOISE_FILE) + " --models " + models_file(1));
+  ASSERT_EQ(r.status, 0) << r.output;
+  // The median body differs from each single fit only where the four fits differ (true models:
+  // they do not), so the own poses match exactly.
+  EXPECT_NE(r.output.find("pose 3: subject 2 'Ben', sequence 0, frame 11, score 0.000"),
+            std::string::npos)
+      << r.output;
+  r = run("identify --feature-noise /nonexistent/noise.yaml --models " + models_file(1));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("feature noise file '/nonexistent/noise.yaml'"), std::string::npos)
+      << r.output;
+  r = run("identify --view side --feature-noise " + std::string(FEATURE_NOISE_FILE) + " --models " +
+          models_file(1));
+  EXPECT_EQ(r.status, 1);  // the noise is 3D
+  EXPECT_NE(r.output.find("learn the noise on the same view"), std::string::npos) << r.output;
+  r = run("enroll --name Cy --walk-body trimmed --models " + models_file(1));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("--walk-body must be mean or median"), std::string::npos) << r.output;
+}
+
 TEST_F(GaitGalleryCli, MistakesExitNonZeroWithTheFix) {
   CliRun r = run("");
   EXPECT_EQ(r.status, 2);

@@ -154,7 +154,7 @@ TEST(GaitIdEvaluation, LearnedProjectionsIdentifyToo) {
   for (FeatureTransform kind : {FeatureTransform::kPca, FeatureTransform::kLda}) {
     std::vector<FeatureRow> rows = thesisRows();
     rows.resize(2);  // the 3D rows
-    const std::vector<NamedMetrics> results = thesisProtocol(smallRun().walks, rows, {kind, 0});
+    const std::vector<NamedMetrics> results = thesisProtocol(smallRun().walks, rows, {kind, 0, {}});
     print(results);
     ASSERT_EQ(results.size(), 2u);
     const std::string suffix = kind == FeatureTransform::kPca ? " PCA" : " LDA";

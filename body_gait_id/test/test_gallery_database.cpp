@@ -125,6 +125,12 @@ TEST_F(GalleryDatabaseTest, EnrolListReopenAndIdentify) {
     const FeatureNormalization stored = db.normalization(view);
     EXPECT_LT((stored.mean_dynamic - expected.mean_dynamic).norm(), 1e-12);
     EXPECT_LT((stored.sigma_static - expected.sigma_static).norm(), 1e-12);
+    // Shape: features from the stored r and shape, statistics from the stored sums (3D only).
+    EXPECT_EQ(poses[5].features.shape, features[5].shape);
+    EXPECT_EQ(stored.sigma_shape.size(), view == View::k3D ? kShapeSize : 0);
+    if (view == View::k3D) {
+      EXPECT_LT((stored.sigma_shape - expected.sigma_shape).norm(), 1e-12);
+    }
   }
   // A training pose identifies its subject and frame.
   const Matcher matcher = db.matcher(FeatureSet::kDynamicStatic);
@@ -133,6 +139,13 @@ TEST_F(GalleryDatabaseTest, EnrolListReopenAndIdentify) {
   EXPECT_EQ(m.sequence, bob[27].sequence);
   EXPECT_EQ(m.frame, bob[27].frame);
   EXPECT_LT(m.score, 1e-4);
+  // With the body shape too (their statures differ, so their girths do).
+  EXPECT_EQ(parseFeatureSet("dynamic_static_shape"), FeatureSet::kDynamicStaticShape);
+  const Matcher shaped = db.matcher(FeatureSet::kDynamicStaticShape);
+  const Match ms = shaped.identify(gaitFeatures(alice[3].model));
+  EXPECT_EQ(ms.subject_id, alice_id);
+  EXPECT_EQ(ms.frame, alice[3].frame);
+  EXPECT_LT(ms.score, 1e-4);
 }
 
 TEST_F(GalleryDatabaseTest, FileIsInWalModeWithSchemaVersion) {
@@ -161,6 +174,14 @@ TEST_F(GalleryDatabaseTest, RemoveCascadesAndRefitsTheStatistics) {
   const double only_b = db.normalization().mean_static[0];
   EXPECT_NEAR(only_b, body_gait::standingModel(1.9).r[0], 1e-12);
   EXPECT_GT(std::abs(only_b - both), 1e-3);
+  // The shape sums lose A's poses too: B's own shape statistics remain.
+  {
+    std::vector<GaitFeatures> b_features;
+    for (const GalleryPose& pose : db.poses()) b_features.push_back(pose.features);
+    const FeatureNormalization expected = FeatureNormalization::fit(b_features);
+    EXPECT_LT((db.normalization().mean_shape - expected.mean_shape).norm(), 1e-9);
+    EXPECT_LT((db.normalization().sigma_shape - expected.sigma_shape).norm(), 1e-9);
+  }
   const std::int64_t c = db.enroll({"C", "", 0}, {}, trainingPoses(1.7, 3));
   EXPECT_GT(c, b);  // ids are never reused
   EXPECT_TRUE(db.remove(b));
@@ -202,20 +223,30 @@ TEST_F(GalleryDatabaseTest, ForeignNewerAndUnknownSchemasAreRefused) {
   EXPECT_NE(openError().find("unknown schema version"), std::string::npos) << openError();
 }
 
-// A version 1 file (statistics without running sums) is upgraded when opened: same subjects,
-// statistics recomputed from its poses, and it takes new enrolments.
-TEST_F(GalleryDatabaseTest, VersionOneFileIsUpgraded) {
+// A version 1 file (statistics without running sums) and a version 2 file (sums without the
+// body-shape statistics) are upgraded when opened: same subjects, every sum recomputed from the
+// stored poses (shape included), and the file takes new enrolments.
+class GalleryUpgradeTest : public GalleryDatabaseTest, public ::testing::WithParamInterface<int> {};
+
+TEST_P(GalleryUpgradeTest, OlderFileIsUpgraded) {
   {
     GalleryDatabase db(path_);
     db.enroll({"A", "", 0}, {}, trainingPoses(1.6, 1));
     db.enroll({"B", "", 0}, {}, trainingPoses(1.8, 2));
   }
   execRaw(
-      "ALTER TABLE normalization DROP COLUMN sum_dynamic;"
-      "ALTER TABLE normalization DROP COLUMN sum_sq_dynamic;"
-      "ALTER TABLE normalization DROP COLUMN sum_static;"
-      "ALTER TABLE normalization DROP COLUMN sum_sq_static;"
-      "UPDATE schema_version SET version = 1");
+      "ALTER TABLE normalization DROP COLUMN mean_shape;"
+      "ALTER TABLE normalization DROP COLUMN sigma_shape;"
+      "ALTER TABLE normalization DROP COLUMN sum_shape;"
+      "ALTER TABLE normalization DROP COLUMN sum_sq_shape;"
+      "UPDATE schema_version SET version = 2");
+  if (GetParam() == 1)
+    execRaw(
+        "ALTER TABLE normalization DROP COLUMN sum_dynamic;"
+        "ALTER TABLE normalization DROP COLUMN sum_sq_dynamic;"
+        "ALTER TABLE normalization DROP COLUMN sum_static;"
+        "ALTER TABLE normalization DROP COLUMN sum_sq_static;"
+        "UPDATE schema_version SET version = 1");
   GalleryDatabase db(path_);
   EXPECT_EQ(scalar("SELECT version FROM schema_version"), GalleryDatabase::kSchemaVersion);
   EXPECT_EQ(db.subjects().size(), 2u);
@@ -224,9 +255,16 @@ TEST_F(GalleryDatabaseTest, VersionOneFileIsUpgraded) {
   for (const GalleryPose& pose : db.poses()) features.push_back(pose.features);
   const FeatureNormalization expected = FeatureNormalization::fit(features);
   EXPECT_EQ(scalar("SELECT pose_count FROM normalization WHERE view = '3d'"), 120);
-  EXPECT_LT((db.normalization().mean_static - expected.mean_static).norm(), 1e-12);
-  EXPECT_LT((db.normalization().sigma_dynamic - expected.sigma_dynamic).norm(), 1e-12);
+  const FeatureNormalization stored = db.normalization();
+  EXPECT_LT((stored.mean_static - expected.mean_static).norm(), 1e-12);
+  EXPECT_LT((stored.sigma_dynamic - expected.sigma_dynamic).norm(), 1e-12);
+  ASSERT_EQ(stored.mean_shape.size(), kShapeSize);
+  EXPECT_LT((stored.mean_shape - expected.mean_shape).norm(), 1e-12);
+  EXPECT_LT((stored.sigma_shape - expected.sigma_shape).norm(), 1e-12);
+  EXPECT_EQ(db.normalization(View::kSide).mean_shape.size(), 0);
 }
+
+INSTANTIATE_TEST_SUITE_P(FromVersion, GalleryUpgradeTest, ::testing::Values(1, 2));
 
 TEST_F(GalleryDatabaseTest, LockedDatabaseWaitsThenGivesAClearError) {
   GalleryDatabase db(path_, std::chrono::milliseconds(200));

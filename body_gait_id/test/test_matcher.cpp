@@ -146,9 +146,9 @@ TEST(Matcher, BadInputGivesClearErrors) {
   EXPECT_THROW(Matcher({}, FeatureSet::kDynamic), std::invalid_argument);
   std::mt19937 rng(1);
   const Matcher matcher(randomGallery(2, 40, rng), FeatureSet::kDynamic);
-  GaitFeatures frontal{Eigen::VectorXd::Zero(11), Eigen::VectorXd::Zero(12)};
+  GaitFeatures frontal{Eigen::VectorXd::Zero(11), Eigen::VectorXd::Zero(12), {}};
   EXPECT_THROW(matcher.identify(frontal), std::invalid_argument);
-  GaitFeatures nan{Eigen::VectorXd::Zero(22), Eigen::VectorXd::Zero(12)};
+  GaitFeatures nan{Eigen::VectorXd::Zero(22), Eigen::VectorXd::Zero(12), {}};
   nan.dynamic[5] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(matcher.identify(nan), std::invalid_argument);
   EXPECT_THROW(matcher.rankSubjects(nan), std::invalid_argument);

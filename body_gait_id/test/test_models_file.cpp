@@ -1,4 +1,5 @@
 // YAML body models (CLI enrolment input) and the gallery export (YAML, CSV).
+#include <body_gait_id/feature_noise_file.h>
 #include <body_gait_id/models_file.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -124,6 +125,40 @@ TEST_F(ModelsFileTest, ExportHoldsEverySubjectAndPose) {
   EXPECT_EQ(std::count(rows[0].begin(), rows[0].end(), ','), 4 + 22 + 12 - 1);
   EXPECT_EQ(rows[1].rfind("1,\"Smith, \"\"Jo\"\"\",0,1,", 0), 0u) << rows[1];
   EXPECT_EQ(rows[6].rfind("2,Lee,0,3,", 0), 0u) << rows[6];
+}
+
+// The feature noise file (evaluate_gait_id --write-noise -> gait_id_node ~feature_noise).
+TEST_F(ModelsFileTest, FeatureNoiseRoundTripAndErrors) {
+  FeatureNoise noise{Eigen::VectorXd::LinSpaced(22, 0.01, 0.3),
+                     Eigen::VectorXd::LinSpaced(12, 0.002, 0.015),
+                     Eigen::VectorXd::LinSpaced(kShapeSize, 0.0001, 0.008)};
+  const std::string path = (dir_ / "noise.yaml").string();
+  std::ofstream(path) << featureNoiseYaml(noise, "test");
+  const FeatureNoise read = readFeatureNoise(path);
+  EXPECT_LT((read.dynamic - noise.dynamic).cwiseQuotient(noise.dynamic).cwiseAbs().maxCoeff(),
+            1e-5);
+  EXPECT_LT((read.statics - noise.statics).cwiseQuotient(noise.statics).cwiseAbs().maxCoeff(),
+            1e-5);
+  EXPECT_LT((read.shape - noise.shape).cwiseQuotient(noise.shape).cwiseAbs().maxCoeff(), 1e-5);
+  const auto error = [&path](const std::string& text) {
+    std::ofstream(path) << text;
+    try {
+      readFeatureNoise(path);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string short_list = error("dynamic: [1, 2]\nstatics: []\nshape: []\n");
+  EXPECT_NE(short_list.find("'dynamic' must be a list of 22"), std::string::npos) << short_list;
+  EXPECT_NE(short_list.find("--write-noise"), std::string::npos) << short_list;
+  std::string negative = featureNoiseYaml(noise, "test");
+  negative.replace(negative.find("statics: [") + 10, 1, "-");
+  EXPECT_NE(error(negative).find("'statics'[0] is not a non-negative number"), std::string::npos)
+      << error(negative);
+  EXPECT_NE(error("{").find(path), std::string::npos);
+  // The shipped file is valid.
+  EXPECT_NO_THROW(readFeatureNoise(FEATURE_NOISE_FILE));
 }
 
 }  // namespace

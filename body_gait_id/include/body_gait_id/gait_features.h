@@ -15,17 +15,31 @@
 
 namespace body_gait_id {
 
-enum class View { k3D, kFrontal, kSide };            // 5.8.4: orthographic virtual views
-enum class FeatureSet { kDynamic, kDynamicStatic };  // 5.7: phi = [q'] or [q', r']
+enum class View { k3D, kFrontal, kSide };  // 5.8.4: orthographic virtual views
+// 5.7: phi = [q'] or [q', r']; beyond the thesis, [q', r', b'] with the body-shape measures b
+// (bodyShapeFeatures), 3D only.
+enum class FeatureSet { kDynamic, kDynamicStatic, kDynamicStaticShape };
 
-// q (22-D) / r (12-D) in 3D; 11 + 12 in a 2D view.
+// q (22-D) / r (12-D) in 3D; 11 + 12 in a 2D view. shape: bodyShapeFeatures in 3D, empty in the
+// 2D views (a silhouette does not give girths).
 struct GaitFeatures {
-  Eigen::VectorXd dynamic, statics;
+  Eigen::VectorXd dynamic, statics, shape;
 };
 
 // Dimensions of a view's features.
 int dynamicSize(View view);
 constexpr int kStaticSize = body_gait::kSegmentCount;
+
+// Body-shape measures of a fitted model (beyond the thesis's r), the fitter's BodyShape without
+// its duplicates: [0] the standing height sole to head top (mean leg + lower torso - hip rise +
+// upper torso + neck + head: a chain whose shared joints' errors cancel, so it is steadier
+// than its lengths), [1] shoulder and [2] hip half widths, [3..23] the distinct segment radii
+// (upper torso proximal and distal, lower torso distal, neck, head, each limb's proximal and
+// distal). Why: cross-walk, the radii and the height vary 3-10x less between a person's walks
+// than between people, the limbs' lengths only 1.5-2.5x (README, "Gait recognition
+// evaluation").
+constexpr int kShapeSize = 24;
+Eigen::VectorXd bodyShapeFeatures(const body_gait::BodyModel& model);
 
 GaitFeatures gaitFeatures(const body_gait::BodyModel& model, View view = View::k3D);
 
@@ -34,6 +48,11 @@ GaitFeatures gaitFeatures(const body_gait::BodyModel& model, View view = View::k
 // mean's size, or below 1e-9) keeps sigma = 1 so it neither divides by zero nor weighs in.
 struct FeatureNormalization {
   Eigen::VectorXd mean_dynamic, sigma_dynamic, mean_static, sigma_static;
+  // Shape statistics: empty when the gallery's features have no shape (2D views).
+  Eigen::VectorXd mean_shape, sigma_shape;
+  // Optional weight of each normalized component (size(set) of the set in use; empty = 1, eq
+  // 5.16 as written). noiseWeights() sets them to between / within-subject SD.
+  Eigen::VectorXd weights;
 
   // Throws std::invalid_argument for an empty gallery or features of mixed sizes.
   static FeatureNormalization fit(const std::vector<GaitFeatures>& gallery);
@@ -48,16 +67,36 @@ struct FeatureNormalization {
 
 // Running sums over a gallery (pose count, per-component sum and sum of squares), from which
 // eqs 5.14-5.15's mean and SD follow: the gallery database keeps them so that an enrolment or a
-// removal updates the statistics from that subject's poses alone. fit() uses them too.
+// removal updates the statistics from that subject's poses alone. fit() uses them too. The
+// shape sums are empty when the poses have no shape features (2D views); then so are the
+// normalization's mean_shape / sigma_shape.
 struct FeatureMoments {
   double count = 0;
-  Eigen::VectorXd sum_dynamic, sum_sq_dynamic, sum_static, sum_sq_static;
+  Eigen::VectorXd sum_dynamic, sum_sq_dynamic, sum_static, sum_sq_static, sum_shape, sum_sq_shape;
 
   // Adds a pose (weight 1) or takes one away (weight -1). Throws std::invalid_argument when
-  // the sizes differ from the poses added before (mixed views).
+  // the sizes differ from the poses added before (mixed views, or shape features on some
+  // poses only).
   void add(const GaitFeatures& f, double weight = 1.0);
   // Throws std::invalid_argument when no pose is left.
   FeatureNormalization normalization() const;
 };
+
+// Within-subject SD of each raw feature component between two walks of one person (fit noise
+// plus walk-to-walk variation), learned from a development population with two walks each,
+// not from the gallery's people: a gallery holds one walk per person, so it cannot show this
+// scatter.
+struct FeatureNoise {
+  Eigen::VectorXd dynamic, statics, shape;
+};
+
+// Weights for FeatureNormalization::weights: sigma_i / noise_i per component of the set, i.e.
+// each normalized component (eqs 5.14-5.15) weighted by its between-subject / within-subject
+// SD ratio. Eq 5.16's L2 then measures the probe's distance in units of each component's
+// noise (a Mahalanobis distance with a diagonal within-subject covariance: the nearest
+// neighbour is the most likely subject for Gaussian noise). A noise below 1e-9 is taken as
+// 1e-9. Throws std::invalid_argument when the sizes differ from the statistics'.
+Eigen::VectorXd noiseWeights(const FeatureNormalization& normalization, const FeatureNoise& noise,
+                             FeatureSet set);
 
 }  // namespace body_gait_id

@@ -70,9 +70,10 @@ FeatureSet parseFeatureSet(const std::string& name);
 // a writer (WAL), writers take turns (busy timeout).
 class GalleryDatabase {
  public:
-  // 2: the normalization table keeps running sums. Version 1 files (statistics only) are
-  // upgraded when opened: the sums are computed once from their poses.
-  static constexpr int kSchemaVersion = 2;
+  // 2: the normalization table keeps running sums. 3: it keeps the body-shape measures'
+  // statistics and sums too (dynamic_static_shape). Version 1 and 2 files are upgraded in
+  // place when opened: every sum is computed once from their stored poses.
+  static constexpr int kSchemaVersion = 3;
 
   // Opens the gallery at path, creating the file and its schema if it does not exist. Throws
   // GalleryError for a file that is not an SQLite database, a newer or unknown schema, or a
@@ -103,8 +104,10 @@ class GalleryDatabase {
   // The stored statistics of eqs 5.14-5.15 for a view. Throws GalleryError if the gallery is
   // empty.
   FeatureNormalization normalization(View view = View::k3D) const;
-  // A matcher over the stored gallery with the stored statistics.
-  Matcher matcher(FeatureSet set, View view = View::k3D) const;
+  // A matcher over the stored gallery with the stored statistics; with `noise`, each
+  // component weighted by noiseWeights (between / within-subject SD). Throws
+  // std::invalid_argument when the noise does not fit the view or set (2D views have none).
+  Matcher matcher(FeatureSet set, View view = View::k3D, const FeatureNoise* noise = nullptr) const;
 
   const std::string& path() const { return path_; }
 
@@ -114,7 +117,8 @@ class GalleryDatabase {
 
  private:
   void createOrCheckSchema();
-  void upgradeFromVersion1();
+  // Upgrades a version 1 or 2 file to kSchemaVersion in one transaction.
+  void upgradeFrom(int version_found);
   int tableCount(bool& has_version) const;
   // Adds (weight 1) or takes away (weight -1) poses from the stored statistics of every view.
   void updateNormalization(const std::vector<PoseRecord>& poses, double weight);

@@ -1,3 +1,4 @@
+#include <body_gait_id/enrollment.h>
 #include <body_gait_id/eval/fit_cache.h>
 #include <body_gait_id/eval/gait_id_evaluation.h>
 #include <body_gait_id/matcher.h>
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -129,12 +131,51 @@ std::string droppedNote(int dropped_people) {
          " people left out: a walk could not be fitted or gave no forward stride";
 }
 
+// Ranking by the truncated distance sqrt(sum_i min(d_i^2, c^2)) over weighted normalized
+// components d_i (noise units): best gallery pose per subject, best first.
+class TruncatedRanker {
+ public:
+  TruncatedRanker(const std::vector<GalleryPose>& gallery, FeatureSet set,
+                  const FeatureNormalization& normalization, double truncate_sigmas)
+      : set_(set), normalization_(normalization), limit_(truncate_sigmas * truncate_sigmas) {
+    rows_.resize(gallery.size(), normalization_.size(set));
+    for (std::size_t i = 0; i < gallery.size(); ++i) {
+      rows_.row(i) = normalization_.normalized(gallery[i].features, set).transpose();
+      ids_.push_back({gallery[i].subject_id, gallery[i].frame});
+    }
+  }
+
+  std::vector<RankedCandidate> rank(const GaitFeatures& probe) const {
+    const Eigen::RowVectorXd y = normalization_.normalized(probe, set_).transpose();
+    std::map<std::int64_t, RankedCandidate> best;
+    for (Eigen::Index i = 0; i < rows_.rows(); ++i) {
+      const double score = std::sqrt((rows_.row(i) - y).array().square().min(limit_).sum());
+      auto [it, inserted] = best.try_emplace(ids_[i].first, RankedCandidate{});
+      if (inserted || score < it->second.score) it->second = {ids_[i].first, ids_[i].second, score};
+    }
+    std::vector<RankedCandidate> ranked;
+    for (const auto& [id, candidate] : best) ranked.push_back(candidate);
+    std::stable_sort(ranked.begin(), ranked.end(),
+                     [](const auto& a, const auto& b) { return a.score < b.score; });
+    return ranked;
+  }
+
+ private:
+  FeatureSet set_;
+  FeatureNormalization normalization_;
+  double limit_;
+  Eigen::MatrixXd rows_;
+  std::vector<std::pair<std::int64_t, int>> ids_;  // subject, frame
+};
+
 std::string transformSuffix(const TransformOptions& transform) {
   switch (transform.kind) {
     case FeatureTransform::kPca:
       return " PCA";
     case FeatureTransform::kLda:
       return " LDA";
+    case FeatureTransform::kNoiseWeighted:
+      return transform.truncate_sigmas > 0 ? " weighted robust" : " weighted";
     default:
       return "";
   }
@@ -283,10 +324,21 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row,
 
   std::optional<Matcher> matcher;
   std::optional<ProjectedRanker> ranker;
-  if (transform.kind == FeatureTransform::kNone)
+  std::optional<TruncatedRanker> robust;
+  if (transform.kind == FeatureTransform::kNone) {
     matcher.emplace(gallery, row.set);
-  else
+  } else if (transform.kind == FeatureTransform::kNoiseWeighted) {
+    std::vector<GaitFeatures> features;
+    for (const GalleryPose& pose : gallery) features.push_back(pose.features);
+    FeatureNormalization normalization = FeatureNormalization::fit(features);
+    normalization.weights = noiseWeights(normalization, transform.noise, row.set);
+    if (transform.truncate_sigmas > 0)
+      robust.emplace(gallery, row.set, normalization, transform.truncate_sigmas);
+    else
+      matcher.emplace(gallery, row.set, normalization);
+  } else {
     ranker.emplace(gallery, row.set, transform);
+  }
 
   for (int person = 0; person < static_cast<int>(walks.size()); ++person) {
     const bool enrolled_person = person < enrolled;
@@ -309,6 +361,8 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row,
       if (matcher) {
         for (const Match& m : matcher->rankSubjects(features))
           probe.candidates.push_back({m.subject_id, m.frame, m.score});
+      } else if (robust) {
+        probe.candidates = robust->rank(features);
       } else {
         probe.candidates = ranker->rank(features);
       }
@@ -316,6 +370,10 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row,
     }
   }
   return result;
+}
+
+FeatureRow shapeRow() {
+  return {"3D dynamic+static+shape", View::k3D, FeatureSet::kDynamicStaticShape, std::nullopt};
 }
 
 std::vector<NamedMetrics> thesisProtocol(const FittedWalks& walks,
@@ -415,6 +473,120 @@ PersonSource bvhPeople(const std::vector<std::string>& items, const std::string&
     return spec;
   };
   return people;
+}
+
+namespace {
+
+// Candidate static measures of one fitted pose: the lengths r, chain sums (whose shared joints'
+// errors cancel), the radii and the joint offsets.
+std::vector<std::pair<std::string, double>> candidateMeasures(const body_gait::BodyModel& m) {
+  using namespace body_gait;
+  std::vector<std::pair<std::string, double>> v;
+  for (int s = 0; s < kSegmentCount; ++s)
+    v.push_back({std::string("r ") + segmentInfo(s).name, m.r[s]});
+  const double leg_r = m.r[kRightUpperLeg] + m.r[kRightLowerLeg];
+  const double leg_l = m.r[kLeftUpperLeg] + m.r[kLeftLowerLeg];
+  const double arm_r = m.r[kRightUpperArm] + m.r[kRightLowerArm];
+  const double arm_l = m.r[kLeftUpperArm] + m.r[kLeftLowerArm];
+  v.push_back({"leg right", leg_r});
+  v.push_back({"leg left", leg_l});
+  v.push_back({"leg mean", (leg_r + leg_l) / 2});
+  v.push_back({"arm right", arm_r});
+  v.push_back({"arm left", arm_l});
+  v.push_back({"arm mean", (arm_r + arm_l) / 2});
+  v.push_back({"thigh mean", (m.r[kRightUpperLeg] + m.r[kLeftUpperLeg]) / 2});
+  v.push_back({"shank mean", (m.r[kRightLowerLeg] + m.r[kLeftLowerLeg]) / 2});
+  v.push_back({"upper arm mean", (m.r[kRightUpperArm] + m.r[kLeftUpperArm]) / 2});
+  v.push_back({"lower arm mean", (m.r[kRightLowerArm] + m.r[kLeftLowerArm]) / 2});
+  const double trunk = m.r[kLowerTorso] + m.r[kUpperTorso];
+  v.push_back({"trunk", trunk});
+  v.push_back({"trunk+neck+head", trunk + m.r[kNeck] + m.r[kHead]});
+  v.push_back({"leg + trunk + neck + head", (leg_r + leg_l) / 2 + trunk + m.r[kNeck] + m.r[kHead]});
+  v.push_back({"standing height (shape feature)", bodyShapeFeatures(m)[0]});
+  for (int s = 0; s < kSegmentCount; ++s)
+    v.push_back({std::string("rp ") + segmentInfo(s).name, m.shape.proximal_radius[s]});
+  for (int s = 0; s < kSegmentCount; ++s)
+    v.push_back({std::string("rd ") + segmentInfo(s).name, m.shape.distal_radius[s]});
+  for (int s = 0; s < kSegmentCount; ++s)
+    v.push_back({std::string("rmean ") + segmentInfo(s).name,
+                 (m.shape.proximal_radius[s] + m.shape.distal_radius[s]) / 2});
+  v.push_back({"shoulder_half_width", m.shape.shoulder_half_width});
+  v.push_back({"shoulder_drop", m.shape.shoulder_drop});
+  v.push_back({"hip_half_width", m.shape.hip_half_width});
+  v.push_back({"hip_rise", m.shape.hip_rise});
+  return v;
+}
+
+}  // namespace
+
+std::vector<MeasureNoise> bodyMeasureNoise(const FittedWalks& walks, int trial_a, int trial_b) {
+  std::vector<MeasureNoise> result;
+  std::vector<Eigen::VectorXd> a, b;  // per person: walk values
+  for (const auto& person : walks) {
+    if (!person.at(trial_a) || !person.at(trial_b)) continue;
+    auto walkValue = [&result](const body_gait::RepresentativePoses& poses) {
+      Eigen::VectorXd sum;
+      for (const body_gait::BodyModel& m : poses) {
+        const auto measures = candidateMeasures(m);
+        if (result.empty())
+          for (const auto& [name, value] : measures) result.push_back({name});
+        Eigen::VectorXd v(measures.size());
+        for (std::size_t i = 0; i < measures.size(); ++i) v[i] = measures[i].second;
+        sum = sum.size() ? Eigen::VectorXd(sum + v) : v;
+      }
+      return Eigen::VectorXd(sum / 4.0);
+    };
+    a.push_back(walkValue(*person.at(trial_a)));
+    b.push_back(walkValue(*person.at(trial_b)));
+  }
+  if (a.size() < 2) return {};
+  const double n = static_cast<double>(a.size());
+  for (std::size_t i = 0; i < result.size(); ++i) {
+    double mean = 0, between = 0, within = 0;
+    for (std::size_t p = 0; p < a.size(); ++p) mean += a[p][i] / n;
+    for (std::size_t p = 0; p < a.size(); ++p) {
+      between += (a[p][i] - mean) * (a[p][i] - mean) / (n - 1);
+      within += (a[p][i] - b[p][i]) * (a[p][i] - b[p][i]) / (2 * n);
+    }
+    result[i].mean = mean;
+    result[i].between_sd = std::sqrt(between);
+    result[i].within_sd = std::sqrt(within);
+    result[i].people = static_cast<int>(a.size());
+  }
+  return result;
+}
+
+FeatureNoise crossWalkNoise(const FittedWalks& walks, View view, int trial_a, int trial_b) {
+  Eigen::VectorXd sum_d, sum_s, sum_b;
+  int count = 0;
+  for (const auto& person : walks) {
+    const std::optional<WalkCycles> a = cyclesOf(person.at(trial_a));
+    const std::optional<WalkCycles> b = cyclesOf(person.at(trial_b));
+    if (!a || !b) continue;
+    for (std::size_t f = 0; f < a->eta3.frames.size(); ++f) {
+      const GaitFeatures fa = gaitFeatures(a->eta3.frames[f], view);
+      const GaitFeatures fb = gaitFeatures(b->eta3.frames[f], view);
+      const Eigen::VectorXd dd = (fa.dynamic - fb.dynamic).cwiseAbs2();
+      const Eigen::VectorXd ds = (fa.statics - fb.statics).cwiseAbs2();
+      const Eigen::VectorXd db = (fa.shape - fb.shape).cwiseAbs2();
+      sum_d = sum_d.size() ? Eigen::VectorXd(sum_d + dd) : dd;
+      sum_s = sum_s.size() ? Eigen::VectorXd(sum_s + ds) : ds;
+      sum_b = sum_b.size() ? Eigen::VectorXd(sum_b + db) : db;
+      ++count;
+    }
+  }
+  if (count < 2 * body_gait::kGaitCycleFrames)
+    throw std::runtime_error(
+        "cross-walk noise: fewer than 2 people with both walks fitted; use more people");
+  const double n = 2.0 * count;  // E[(a - b)^2] = 2 sigma^2
+  return {(sum_d / n).cwiseSqrt(), (sum_s / n).cwiseSqrt(), (sum_b / n).cwiseSqrt()};
+}
+
+FittedWalks withMedianBody(FittedWalks walks) {
+  for (auto& person : walks)
+    for (auto& walk : person)
+      if (walk) walk = body_gait_id::withMedianBody(*walk);
+  return walks;
 }
 
 }  // namespace body_gait_id::eval

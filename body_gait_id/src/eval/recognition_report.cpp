@@ -106,12 +106,13 @@ void writeRecognitionReport(const std::string& path, const RecognitionReport& re
 
 std::string recognitionTable(const std::vector<NamedMetrics>& results) {
   std::string table =
-      "features                          rank-1 %  (95% CI)          pose err  cyclic   EER %   "
+      "features                                    rank-1 %  (95% CI)          pose err  cyclic   "
+      "EER %   "
       "thesis: rank-1 %  pose err\n";
   for (const NamedMetrics& r : results) {
     const RecognitionMetrics& m = r.metrics;
     char line[256];
-    std::snprintf(line, sizeof(line), "%-32s  %s  [%s, %s]  %8.2f  %6.2f  %6.2f", r.name.c_str(),
+    std::snprintf(line, sizeof(line), "%-42s  %s  [%s, %s]  %8.2f  %6.2f  %6.2f", r.name.c_str(),
                   percent(m.identification.rate).c_str(), percent(m.identification.ci_low).c_str(),
                   percent(m.identification.ci_high).c_str(), m.average_pose_error,
                   m.average_cyclic_pose_error, 100 * m.equal_error_rate);

@@ -8,13 +8,17 @@
 //             dynamic), ~view (3d | frontal | side), ~accept_threshold (score, eq 5.16, at or
 //             below which a match is accepted; default 4.5: the equal-error threshold of 3D
 //             dynamic + static features, cross-walk, fitted models (README); calibrate it for
-//             other features with evaluate_gait_id),
-//             ~busy_timeout (s, waiting for another writer)
+//             other features or noise weights with evaluate_gait_id),
+//             ~busy_timeout (s, waiting for another writer), ~feature_noise (a feature noise
+//             file, feature_noise_file.h: weighs each 3D component by its between / within-
+//             subject SD; empty = eq 5.16 unweighted), ~walk_body (mean | median: a walk's body
+//             measures at enrolment, eq 5.13's mean or the median of the four fits)
 //
 // A database that cannot be opened (corrupt, locked, newer schema) is reported once at start
 // and in every service reply; the node keeps running and tries the file again on the next
 // call, so fixing or replacing the file needs no restart.
 #include <body_gait_id/enrollment.h>
+#include <body_gait_id/feature_noise_file.h>
 #include <body_gait_id/gallery_database.h>
 #include <body_gait_model/ros/body_model_msg.h>
 #include <body_scan_msgs/EnrollSubject.h>
@@ -46,6 +50,18 @@ class GaitIdNode {
       view_ = parseView(pnh.param<std::string>("view", "3d"));
     } catch (const std::invalid_argument& e) {
       ROS_ERROR("%s; using dynamic_static features in 3D", e.what());
+    }
+    const std::string walk_body = pnh.param<std::string>("walk_body", "mean");
+    median_body_ = walk_body == "median";
+    if (walk_body != "mean" && walk_body != "median")
+      ROS_ERROR("~walk_body must be mean or median, got '%s'; using mean", walk_body.c_str());
+    const std::string noise_file = pnh.param<std::string>("feature_noise", "");
+    if (!noise_file.empty()) {
+      try {
+        noise_ = readFeatureNoise(noise_file);
+      } catch (const std::exception& e) {
+        ROS_ERROR("%s; identifying without noise weights", e.what());
+      }
     }
     try {
       database();
@@ -83,7 +99,7 @@ class GaitIdNode {
   Answer identify(const body_scan_msgs::BodyModel& model) {
     if (!matcher_) {
       // Rebuilt after every enrolment or removal (the gallery and its statistics changed).
-      matcher_.emplace(database().matcher(set_, view_));
+      matcher_.emplace(database().matcher(set_, view_, noise_ ? &*noise_ : nullptr));
       names_.clear();
       for (const Subject& s : database().subjects()) names_[s.id] = s.info.name;
     }
@@ -96,7 +112,8 @@ class GaitIdNode {
     try {
       std::vector<body_gait::BodyModel> models;
       for (const auto& pose : req.poses) models.push_back(body_gait::fromMsg(pose));
-      const std::vector<PoseRecord> poses = trainingPoses(representativePoses(models));
+      const body_gait::RepresentativePoses s = representativePoses(models);
+      const std::vector<PoseRecord> poses = trainingPoses(median_body_ ? withMedianBody(s) : s);
       res.subject_id = database().enroll({req.name, req.gender, req.age}, req.scan_paths, poses);
       res.pose_count = static_cast<int>(poses.size());
       res.success = true;
@@ -194,6 +211,8 @@ class GaitIdNode {
   View view_ = View::k3D;
   std::unique_ptr<GalleryDatabase> db_;
   std::optional<Matcher> matcher_;
+  std::optional<FeatureNoise> noise_;  // ~feature_noise: weights of the components
+  bool median_body_ = false;           // ~walk_body median
   std::map<std::int64_t, std::string> names_;
   ros::ServiceServer enroll_, identify_, remove_, list_;
   ros::Publisher identity_pub_;

@@ -7,6 +7,10 @@
 //                    [--columns C] [--noise SIGMA_M] [--threads T] [--cache DIR] [--seed S]
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
 //                    [--probe-frames interpolated|all] [--per-walk 1] [--gallery-walks N]
+//                    [--shape 1] [--noise-seed S2 [--noise-subjects N2] [--noise-first K]]
+//                    [--walk-body mean|median]
+//                    [--write-noise FILE.yaml | --noise-file FILE.yaml] [--robust-sigmas C]
+//                    [--measure-noise 1]
 //                    [--report FILE.yaml] [--plot FILE.png] [--quiet 1]
 //                    [--bvh [PERSON=]WALK.bvh,... [--bvh-map MAP.yaml]]
 //
@@ -21,12 +25,26 @@
 // probe with walk N (default 1).
 // --per-walk 1 (cross-walk) adds the 3D rows with one decision per probe walk (the mean of a
 // subject's scores over the walk's 20 frames) beside the per-frame decisions.
-// Thesis protocol: the probes are eta3's 16 interpolated frames per person as in the thesis
-// (96 poses of 6 subjects); --probe-frames all adds the 4 representative frames, which are in
-// the training sets too. Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
+// Beyond the thesis (issue 6, cross-walk): --shape 1 adds the 3D dynamic+static+shape row
+// (bodyShapeFeatures); --noise-seed S2 fits N2 (default 50) other people (seed S2, two walks) to
+// learn each feature component's within-subject noise (--noise-first K: persons K..K+N2-1 of
+// seed S2, so with S2 = S and K >= N the test seed's later people serve) and adds the
+// noise-weighted 3D rows (noiseWeights); --walk-body median takes each walk's body measures as the
+// median of its four fits instead of eq 5.13's mean; --write-noise saves the learned noise for
+// gait_id_node's ~feature_noise and gait_gallery's --feature-noise, --noise-file weighs by a saved
+// noise instead of learning it; --robust-sigmas C adds weighted rows whose distance counts each
+// component at most C noise SDs (robust to one failed component; brute force); --measure-noise 1
+// prints how steady each body measure is between a person's walks against its spread between
+// people. Thesis protocol: the probes are eta3's 16 interpolated frames per person as in the thesis
+// (96 poses of 6 subjects);
+// --probe-frames all adds the 4 representative frames, which are in the training sets too.
+// Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
 #include <body_gait_id/eval/gait_id_evaluation.h>
+#include <body_gait_id/feature_noise_file.h>
 #include <body_gait_model/eval/gait_subjects.h>
+#include <body_scan_driver/atomic_file.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -37,17 +55,18 @@ namespace {
 using namespace body_gait_id::eval;
 
 [[noreturn]] void usage(const std::string& problem) {
-  std::fprintf(
-      stderr,
-      "evaluate_gait_id: %s\n"
-      "usage: evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N (>= 2; "
-      "default 6, cross-walk 50)] [--scanner sampler|full|truth] [--columns C (>= 20)] "
-      "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
-      "[--transform none|pca|lda] [--components K] [--rows all|3d] "
-      "[--probe-frames interpolated|all] [--per-walk 1] [--gallery-walks N] [--report FILE.yaml] "
-      "[--plot FILE.png] "
-      "[--quiet 1] [--bvh [PERSON=]WALK.bvh,... [--bvh-map MAP.yaml]]\n",
-      problem.c_str());
+  std::fprintf(stderr,
+               "evaluate_gait_id: %s\n"
+               "usage: evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N (>= 2; "
+               "default 6, cross-walk 50)] [--scanner sampler|full|truth] [--columns C (>= 20)] "
+               "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
+               "[--transform none|pca|lda] [--components K] [--rows all|3d] "
+               "[--probe-frames interpolated|all] [--per-walk 1] [--gallery-walks N] [--shape 1] "
+               "[--noise-seed S2 [--noise-subjects N2 (default 50)] [--noise-first K]] "
+               "[--walk-body mean|median] [--write-noise FILE.yaml | --noise-file FILE.yaml] "
+               "[--robust-sigmas C] [--measure-noise 1] [--report FILE.yaml] [--plot FILE.png] "
+               "[--quiet 1] [--bvh [PERSON=]WALK.bvh,... [--bvh-map MAP.yaml]]\n",
+               problem.c_str());
   std::exit(2);
 }
 
@@ -61,16 +80,21 @@ double number(const char* text, const std::string& flag) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string protocol = "thesis", report_path, plot_path, rows_choice = "all";
+  std::string protocol = "thesis", report_path, plot_path, rows_choice = "all", noise_path,
+              noise_file;
   int subjects = 0;
   std::uint32_t seed = 1;
   ScanOptions scan;
   TransformOptions transform;
   ProbeFrames probe_frames = ProbeFrames::kInterpolated;
-  bool per_walk = false;
+  bool per_walk = false, measure_noise = false, shape = false, median_body = false;
   int gallery_walks = 1;
   std::vector<std::string> bvh_files;
   std::string bvh_map = BODY_SCAN_DRIVER_CONFIG_DIR "/bvh/cmu_joint_map.yaml";
+  std::uint32_t noise_seed = 0;  // 0: no noise-weighted rows
+  int noise_subjects = 50;
+  int noise_first = 0;       // the development people are persons noise_first.. of the noise seed
+  double robust_sigmas = 0;  // > 0: also the weighted rows with the truncated distance
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--help" || flag == "-h") usage("evaluates gait identification");
@@ -140,6 +164,27 @@ int main(int argc, char** argv) {
       for (std::string file; std::getline(list, file, ',');) bvh_files.push_back(file);
     } else if (flag == "--bvh-map") {
       bvh_map = value;
+    } else if (flag == "--shape") {
+      shape = number(value, flag) != 0;
+    } else if (flag == "--noise-seed") {
+      noise_seed = static_cast<std::uint32_t>(number(value, flag));
+    } else if (flag == "--robust-sigmas") {
+      robust_sigmas = number(value, flag);
+    } else if (flag == "--noise-first") {
+      noise_first = static_cast<int>(number(value, flag));
+    } else if (flag == "--noise-subjects") {
+      noise_subjects = static_cast<int>(number(value, flag));
+    } else if (flag == "--noise-file") {
+      noise_file = value;
+    } else if (flag == "--write-noise") {
+      noise_path = value;
+    } else if (flag == "--walk-body") {
+      const std::string kind = value;
+      if (kind != "mean" && kind != "median")
+        usage("--walk-body must be mean or median, got '" + kind + "'");
+      median_body = kind == "median";
+    } else if (flag == "--measure-noise") {
+      measure_noise = number(value, flag) != 0;
     } else if (flag == "--quiet") {
       scan.progress = number(value, flag) == 0;
     } else {
@@ -166,6 +211,16 @@ int main(int argc, char** argv) {
   if (subjects < 2) usage("--subjects must be >= 2 (identification needs a choice)");
   if (scan.sampler_columns < 20) usage("--columns must be >= 20");
   if (scan.threads < 1 || scan.threads > 16) usage("--threads must be 1..16");
+  if (noise_first < 0) usage("--noise-first must be >= 0");
+  if (noise_seed != 0 && noise_seed == seed && noise_first < subjects)
+    usage(
+        "--noise-seed equals --seed: give --noise-first >= --subjects, so the noise is "
+        "learned on other people");
+  if (noise_seed != 0 && noise_subjects < 2) usage("--noise-subjects must be >= 2");
+  if (!noise_file.empty() && noise_seed != 0)
+    usage("give --noise-seed (learn the noise) or --noise-file (read it), not both");
+  if (!noise_path.empty() && noise_seed == 0)
+    usage("--write-noise needs --noise-seed (the people the noise is learned on)");
 
   std::vector<body_gait::eval::SimulatedPerson> persons;
   if (bvh_files.empty()) {
@@ -178,10 +233,15 @@ int main(int argc, char** argv) {
 
   std::vector<FeatureRow> rows = thesisRows();
   if (rows_choice == "3d") rows.resize(2);
+  std::vector<FeatureRow> rows_3d(rows.begin(), rows.begin() + 2);
+  if (shape) {
+    rows.insert(rows.begin() + 2, shapeRow());
+    rows_3d.push_back(shapeRow());
+  }
   FitSummary summary;
   std::vector<NamedMetrics> results;
   try {
-    const FittedWalks walks = fitWalks(people, trials, scan, &summary);
+    FittedWalks walks = fitWalks(people, trials, scan, &summary);
     // Walks the protocols leave out: a pose not fitted, or fits with no forward stride (the gait
     // cycle cannot be rebuilt). Their people are not counted in the rates below.
     for (size_t person = 0; person < walks.size(); ++person)
@@ -200,19 +260,71 @@ int main(int argc, char** argv) {
         std::printf("  left out: %s walk %zu: %s\n", people.names[person].c_str(), trial,
                     reason.c_str());
       }
+    if (median_body) walks = withMedianBody(std::move(walks));
+    TransformOptions weighted;
+    if (noise_seed != 0) {
+      // Development people (another seed: nobody of the test set) with two walks each.
+      // Persons 0 .. noise_first - 1 are fitted too (their scans keep their index, so the
+      // cache serves them) and then left out.
+      const std::vector<body_gait::eval::SimulatedPerson> development =
+          body_gait::eval::simulatedPeople(noise_first + noise_subjects, noise_seed);
+      PersonSource dev;
+      for (const auto& person : development) dev.names.push_back(person.name);
+      dev.spec = [&development](int person, int pose, int trial, double heading) {
+        return body_gait::eval::walkingSubject(development[person], pose, trial, heading);
+      };
+      FittedWalks dev_walks = fitWalks(dev, 2, scan);
+      dev_walks.erase(dev_walks.begin(), dev_walks.begin() + noise_first);
+      if (median_body) dev_walks = withMedianBody(std::move(dev_walks));
+      weighted.kind = FeatureTransform::kNoiseWeighted;
+      weighted.noise = crossWalkNoise(dev_walks);
+      if (!noise_path.empty()) {
+        const std::string source = std::string(scan.scanner == ScannerKind::kFull      ? "full"
+                                               : scan.scanner == ScannerKind::kSampler ? "sampler"
+                                                                                       : "truth") +
+                                   " scanner, " + std::to_string(noise_subjects) + " people from " +
+                                   std::to_string(noise_first) + ", seed " +
+                                   std::to_string(noise_seed) + ", " +
+                                   (median_body ? "median" : "mean") + " body of a walk";
+        body_scan::writeFileAtomically(noise_path,
+                                       body_gait_id::featureNoiseYaml(weighted.noise, source));
+      }
+    }
+    if (measure_noise && cross_walk) {
+      std::printf("%-30s %9s %9s %9s %7s\n", "measure (walk = mean of 4 fits)", "mean", "between",
+                  "within", "F");
+      for (const MeasureNoise& m : bodyMeasureNoise(walks))
+        std::printf("%-30s %9.4f %9.4f %9.4f %7.2f\n", m.name.c_str(), m.mean, m.between_sd,
+                    m.within_sd, m.within_sd > 0 ? std::pow(m.between_sd / m.within_sd, 2) : 0.0);
+    }
     results = cross_walk ? crossWalkProtocol(walks, rows, {}, false, gallery_walks)
                          : thesisProtocol(walks, rows, {}, probe_frames);
-    const std::vector<FeatureRow> rows_3d(rows.begin(), rows.begin() + 2);
     auto add = [&results](std::vector<NamedMetrics> extra) {
       for (NamedMetrics& r : extra) results.push_back(std::move(r));
     };
     if (transform.kind != FeatureTransform::kNone)
       add(cross_walk ? crossWalkProtocol(walks, rows_3d, transform, false, gallery_walks)
                      : thesisProtocol(walks, rows_3d, transform, probe_frames));
+    if (!noise_file.empty()) {
+      weighted.kind = FeatureTransform::kNoiseWeighted;
+      weighted.noise = body_gait_id::readFeatureNoise(noise_file);
+    }
+    TransformOptions robust = weighted;
+    robust.truncate_sigmas = robust_sigmas;
+    const bool with_robust = weighted.kind == FeatureTransform::kNoiseWeighted && robust_sigmas > 0;
+    if (with_robust)
+      add(cross_walk ? crossWalkProtocol(walks, rows_3d, robust, false, gallery_walks)
+                     : thesisProtocol(walks, rows_3d, robust, probe_frames));
+    if (weighted.kind == FeatureTransform::kNoiseWeighted)
+      add(cross_walk ? crossWalkProtocol(walks, rows_3d, weighted, false, gallery_walks)
+                     : thesisProtocol(walks, rows_3d, weighted, probe_frames));
     if (per_walk && cross_walk) {
       add(crossWalkProtocol(walks, rows_3d, {}, true, gallery_walks));
       if (transform.kind != FeatureTransform::kNone)
         add(crossWalkProtocol(walks, rows_3d, transform, true, gallery_walks));
+      if (weighted.kind == FeatureTransform::kNoiseWeighted)
+        add(crossWalkProtocol(walks, rows_3d, weighted, true, gallery_walks));
+      if (with_robust) add(crossWalkProtocol(walks, rows_3d, robust, true, gallery_walks));
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "evaluate_gait_id: %s\n", e.what());
@@ -232,7 +344,7 @@ int main(int argc, char** argv) {
   std::printf("%s", recognitionTable(results).c_str());
   for (const NamedMetrics& r : results) {
     const RecognitionMetrics& m = r.metrics;
-    std::printf("%-32s CMC", r.name.c_str());
+    std::printf("%-42s CMC", r.name.c_str());
     for (const Proportion& p : m.cmc) std::printf(" %.2f", 100 * p.rate);
     if (m.open_set)
       std::printf(" | open set: threshold %.3f, FNIR %.2f %%%s, FPIR %.2f %% [%.2f, %.2f] (n %d)",

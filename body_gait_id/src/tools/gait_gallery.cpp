@@ -1,5 +1,6 @@
 // gait_gallery: the gait gallery database from the command line (no ROS needed).
 #include <body_gait_id/enrollment.h>
+#include <body_gait_id/feature_noise_file.h>
 #include <body_gait_id/gallery_database.h>
 #include <body_gait_id/models_file.h>
 
@@ -7,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 
 namespace {
 
@@ -14,14 +16,18 @@ constexpr const char* kUsage = R"(usage: gait_gallery [--database FILE] COMMAND 
 
   list                                  enrolled subjects (id, name, gender, age, poses, scans)
   enroll --name NAME [--gender G] [--age YEARS] --models FILE.yaml [--scan PATH]...
-                                        enrol a person from 4 fitted representative poses
+         [--walk-body mean|median]      enrol a person from 4 fitted representative poses
                                         s1..s4 (YAML 'poses:' list, see models_file.h): the
-                                        eta1 and eta2 training cycles, 40 poses
+                                        eta1 and eta2 training cycles, 40 poses; median: the
+                                        body measures are the median of the 4 fits
   remove ID                             remove a subject with their scans and poses
   export [--format yaml|csv] [--output FILE]
                                         the whole gallery (YAML) or one row per pose (CSV)
-  identify --models FILE.yaml [--feature-set dynamic|dynamic_static] [--view 3d|frontal|side]
-                                        nearest gallery pose of every model in the file
+  identify --models FILE.yaml [--feature-set dynamic|dynamic_static|dynamic_static_shape]
+           [--view 3d|frontal|side] [--feature-noise FILE.yaml]
+                                        nearest gallery pose of every model in the file;
+                                        with a noise file (evaluate_gait_id --write-noise)
+                                        each component weighted by between / within SD
 
   --database FILE   default $ROS_HOME/gait_gallery.db (the gait_id_node's default)
 )";
@@ -95,8 +101,13 @@ int run(const Arguments& args) {
     std::vector<std::string> scans;
     for (auto [it, end] = args.options.equal_range("scan"); it != end; ++it)
       scans.push_back(it->second);
+    const body_gait::RepresentativePoses s =
+        representativePoses(readBodyModels(args.required("models")));
+    const std::string walk_body = args.one("walk-body", "mean");
+    if (walk_body != "mean" && walk_body != "median")
+      throw std::invalid_argument("--walk-body must be mean or median, got '" + walk_body + "'");
     const std::vector<PoseRecord> poses =
-        trainingPoses(representativePoses(readBodyModels(args.required("models"))));
+        trainingPoses(walk_body == "median" ? withMedianBody(s) : s);
     const std::int64_t id = db.enroll(info, scans, poses);
     std::printf("enrolled '%s' as subject %ld (%zu poses) in %s\n", info.name.c_str(),
                 static_cast<long>(id), poses.size(), db.path().c_str());
@@ -134,8 +145,10 @@ int run(const Arguments& args) {
   }
   if (args.command == "identify") {
     const View view = parseView(args.one("view", "3d"));
-    const Matcher matcher =
-        db.matcher(parseFeatureSet(args.one("feature-set", "dynamic_static")), view);
+    std::optional<FeatureNoise> noise;
+    if (!args.one("feature-noise").empty()) noise = readFeatureNoise(args.one("feature-noise"));
+    const Matcher matcher = db.matcher(parseFeatureSet(args.one("feature-set", "dynamic_static")),
+                                       view, noise ? &*noise : nullptr);
     std::map<std::int64_t, std::string> names;
     for (const Subject& s : db.subjects()) names[s.id] = s.info.name;
     const std::vector<body_gait::BodyModel> models = readBodyModels(args.required("models"));

@@ -73,14 +73,25 @@ struct FeatureRow {
   std::optional<ThesisFigures> thesis;
 };
 std::vector<FeatureRow> thesisRows();  // 3D, frontal, side x dynamic, dynamic+static
+// Beyond the thesis: 3D dynamic + static + body shape (bodyShapeFeatures).
+FeatureRow shapeRow();
 
 // Optional learned projection of the normalized features (the thesis's future work), fitted on
 // the gallery: PCA keeps `components` (0: half the dimension), LDA subjects - 1 (capped at the
 // dimension). With a transform the ranking is a brute-force L2 scan of the projected vectors.
-enum class FeatureTransform { kNone, kPca, kLda };
+// kNoiseWeighted: no projection, each normalized component weighted by its between / within-
+// subject SD ratio (noiseWeights), with the within-subject noise learned beforehand on other
+// people (`noise`, from crossWalkNoise); the ranking is the indexed Matcher's.
+enum class FeatureTransform { kNone, kPca, kLda, kNoiseWeighted };
 struct TransformOptions {
   FeatureTransform kind = FeatureTransform::kNone;
   int components = 0;
+  FeatureNoise noise;  // kNoiseWeighted only
+  // kNoiseWeighted only, > 0: a robust distance instead of eq 5.16's L2: each component's
+  // difference (in noise SDs, which the weighted components are) counts at most this many
+  // SDs, so one failed component of a fit (a heavy-tailed error) cannot outweigh the rest.
+  // Ranked by a brute-force scan (the k-d tree's bounds are for L2).
+  double truncate_sigmas = 0;
 };
 
 // Which frames of eta3 probe: the 16 interpolated ones, or all 20 (with the representative
@@ -124,5 +135,31 @@ std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
                                             const std::vector<FeatureRow>& rows,
                                             const TransformOptions& transform = {},
                                             bool per_walk = false, int gallery_walks = 1);
+
+}  // namespace body_gait_id::eval
+
+namespace body_gait_id::eval {
+
+// How steady a static body measure is across a person's walks, against how much it differs
+// between people (issue 6: cross-walk identification is limited by the fits' noise). A walk's
+// value is the mean over its four fitted poses (as r in eq 5.13); between_sd is the SD over
+// people of walk trial_a's value, within_sd the SD of one walk's value about the person's own
+// (RMS of (walk a - walk b) / sqrt 2). Fisher ratio = (between / within)^2.
+struct MeasureNoise {
+  std::string name;
+  double mean = 0, between_sd = 0, within_sd = 0;
+  int people = 0;
+};
+// The within-subject noise of every raw feature component of a view between walks trial_a and
+// trial_b of the same people: RMS over people and eta3 frames of (frame f of walk a - frame f of
+// walk b) / sqrt 2. Throws std::runtime_error when fewer than 2 people have both walks.
+FeatureNoise crossWalkNoise(const FittedWalks& walks, View view = View::k3D, int trial_a = 0,
+                            int trial_b = 1);
+
+// body_gait_id::withMedianBody (enrollment.h) applied to every fitted walk.
+FittedWalks withMedianBody(FittedWalks walks);
+
+std::vector<MeasureNoise> bodyMeasureNoise(const FittedWalks& walks, int trial_a = 0,
+                                           int trial_b = 1);
 
 }  // namespace body_gait_id::eval
