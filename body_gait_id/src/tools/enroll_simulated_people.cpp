@@ -3,10 +3,11 @@
 // representative poses (thesis 5.3) of walk --trial are scanned and fitted (fitWalks: the full
 // scanner simulation by default, through the fit cache), then enrolled as the eta1 and eta2
 // training cycles (5.8.3). The scene file holds the floor and the person's body as a `human`
-// object, so full_scanner.launch scans exactly that walk and pose.
+// object, so full_scanner.launch scans exactly that walk and pose. --walk-body is the enrolment
+// rule of gait_id_node's ~walk_body (default median, as recognition.launch).
 //
 //   enroll_simulated_people --database FILE [--people N] [--trial T] [--seed S]
-//       [--scanner full|sampler|truth] [--cache DIR] [--threads T]
+//       [--scanner full|sampler|truth] [--cache DIR] [--threads T] [--walk-body median|mean]
 //       [--scene-out FILE.yaml --scene-person K --scene-trial T --scene-pose P]
 #include <body_gait_id/enrollment.h>
 #include <body_gait_id/eval/gait_id_evaluation.h>
@@ -27,7 +28,7 @@ using namespace body_gait_id;
                "enroll_simulated_people: %s\n"
                "usage: enroll_simulated_people --database FILE [--people N (default 6)] "
                "[--trial T (default 0)] [--seed S] [--scanner full|sampler|truth (default full)] "
-               "[--cache DIR] [--threads T] [--scene-out FILE.yaml --scene-person K "
+               "[--cache DIR] [--threads T] [--walk-body median|mean] [--scene-out FILE.yaml --scene-person K "
                "--scene-trial T --scene-pose P (1..4)]\n",
                problem.c_str());
   std::exit(2);
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
   std::uint32_t seed = 1;
   eval::ScanOptions scan;
   scan.scanner = eval::ScannerKind::kFull;
+  bool median_body = true;
   for (int i = 1; i < argc; i += 2) {
     const std::string flag = argv[i];
     if (i + 1 >= argc) usage(flag + " needs a value");
@@ -89,6 +91,11 @@ int main(int argc, char** argv) {
       scan.cache_folder = value;
     } else if (flag == "--threads") {
       scan.threads = integer(value, flag);
+    } else if (flag == "--walk-body") {
+      const std::string rule = value;
+      if (rule != "median" && rule != "mean")
+        usage("--walk-body must be median or mean, got '" + rule + "'");
+      median_body = rule == "median";
     } else if (flag == "--scene-out") {
       scene_path = value;
     } else if (flag == "--scene-person") {
@@ -136,7 +143,9 @@ int main(int argc, char** argv) {
         continue;
       }
       const SubjectInfo info{persons[i].name, persons[i].gender, persons[i].age};
-      const std::int64_t id = gallery.enroll(info, {}, trainingPoses(*walks[i][0]));
+      const body_gait::RepresentativePoses& walk = *walks[i][0];
+      const std::int64_t id =
+          gallery.enroll(info, {}, trainingPoses(median_body ? withMedianBody(walk) : walk));
       std::printf("enrolled %s (%s, %d) as subject %lld: walk %d, %d training poses\n",
                   persons[i].name.c_str(), persons[i].gender.c_str(), persons[i].age,
                   static_cast<long long>(id), trial, kTrainingPoses);
