@@ -305,5 +305,16 @@ TEST(GaitPoses, ShortClipIsAClearError) {
   }
 }
 
+TEST(ParseBvhWalkFile, PersonFromTheCmuNameOrGiven) {
+  const BvhWalkFile cmu = parseBvhWalkFile("../data/bvh/07_02.bvh");
+  EXPECT_EQ(cmu.person, "07");
+  EXPECT_EQ(cmu.walk, "07_02");
+  EXPECT_EQ(cmu.file, "../data/bvh/07_02.bvh");
+  const BvhWalkFile named = parseBvhWalkFile("ada=/walks/take1.bvh");
+  EXPECT_EQ(named.person, "ada");
+  EXPECT_EQ(named.walk, "take1");
+  EXPECT_EQ(named.file, "/walks/take1.bvh");
+}
+
 }  // namespace
 }  // namespace body_scan::sim

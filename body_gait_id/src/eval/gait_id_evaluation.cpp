@@ -71,6 +71,24 @@ std::optional<WalkCycles> cyclesOf(const std::optional<body_gait::Representative
 
 std::int64_t subjectId(int person) { return person + 1; }
 
+// The best gallery pose of every subject under score(row i), best first (ties keep subject
+// order): the ranking a brute-force scan gives for CMC, ROC and the open set.
+template <typename Score>
+std::vector<RankedCandidate> bestPerSubject(const std::vector<std::pair<std::int64_t, int>>& ids,
+                                            Score score_of_row) {
+  std::map<std::int64_t, RankedCandidate> best;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const double score = score_of_row(static_cast<Eigen::Index>(i));
+    auto [it, inserted] = best.try_emplace(ids[i].first, RankedCandidate{});
+    if (inserted || score < it->second.score) it->second = {ids[i].first, ids[i].second, score};
+  }
+  std::vector<RankedCandidate> ranked;
+  for (const auto& [id, candidate] : best) ranked.push_back(candidate);
+  std::stable_sort(ranked.begin(), ranked.end(),
+                   [](const auto& a, const auto& b) { return a.score < b.score; });
+  return ranked;
+}
+
 // Ranking through a learned projection: best gallery pose per subject, best first.
 class ProjectedRanker {
  public:
@@ -104,17 +122,8 @@ class ProjectedRanker {
 
   std::vector<RankedCandidate> rank(const GaitFeatures& probe) const {
     const Eigen::VectorXd y = transform_.apply(normalization_.normalized(probe, set_));
-    std::map<std::int64_t, RankedCandidate> best;
-    for (Eigen::Index i = 0; i < projected_.rows(); ++i) {
-      const double score = (projected_.row(i).transpose() - y).norm();
-      auto [it, inserted] = best.try_emplace(ids_[i].first, RankedCandidate{});
-      if (inserted || score < it->second.score) it->second = {ids_[i].first, ids_[i].second, score};
-    }
-    std::vector<RankedCandidate> ranked;
-    for (const auto& [id, candidate] : best) ranked.push_back(candidate);
-    std::stable_sort(ranked.begin(), ranked.end(),
-                     [](const auto& a, const auto& b) { return a.score < b.score; });
-    return ranked;
+    return bestPerSubject(
+        ids_, [&](Eigen::Index i) { return (projected_.row(i).transpose() - y).norm(); });
   }
 
  private:
@@ -147,17 +156,9 @@ class TruncatedRanker {
 
   std::vector<RankedCandidate> rank(const GaitFeatures& probe) const {
     const Eigen::RowVectorXd y = normalization_.normalized(probe, set_).transpose();
-    std::map<std::int64_t, RankedCandidate> best;
-    for (Eigen::Index i = 0; i < rows_.rows(); ++i) {
-      const double score = std::sqrt((rows_.row(i) - y).array().square().min(limit_).sum());
-      auto [it, inserted] = best.try_emplace(ids_[i].first, RankedCandidate{});
-      if (inserted || score < it->second.score) it->second = {ids_[i].first, ids_[i].second, score};
-    }
-    std::vector<RankedCandidate> ranked;
-    for (const auto& [id, candidate] : best) ranked.push_back(candidate);
-    std::stable_sort(ranked.begin(), ranked.end(),
-                     [](const auto& a, const auto& b) { return a.score < b.score; });
-    return ranked;
+    return bestPerSubject(ids_, [&](Eigen::Index i) {
+      return std::sqrt((rows_.row(i) - y).array().square().min(limit_).sum());
+    });
   }
 
  private:
@@ -438,11 +439,7 @@ PersonSource bvhPeople(const std::vector<std::string>& items, const std::string&
   PersonSource people;
   std::map<std::string, size_t> index;
   for (const std::string& item : items) {
-    const size_t equals = item.find('=');
-    const std::string file = equals == std::string::npos ? item : item.substr(equals + 1);
-    const std::string walk = std::filesystem::path(file).stem().string();
-    const std::string person =
-        equals == std::string::npos ? walk.substr(0, walk.find('_')) : item.substr(0, equals);
+    const auto [person, walk, file] = sim::parseBvhWalkFile(item);
     if (!index.count(person)) {
       index[person] = people.names.size();
       people.names.push_back(person);

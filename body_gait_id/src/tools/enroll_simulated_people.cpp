@@ -28,7 +28,8 @@ using namespace body_gait_id;
                "enroll_simulated_people: %s\n"
                "usage: enroll_simulated_people --database FILE [--people N (default 6)] "
                "[--trial T (default 0)] [--seed S] [--scanner full|sampler|truth (default full)] "
-               "[--cache DIR] [--threads T] [--walk-body median|mean] [--scene-out FILE.yaml --scene-person K "
+               "[--cache DIR] [--threads T] [--walk-body median|mean] [--scene-out FILE.yaml "
+               "--scene-person K "
                "--scene-trial T --scene-pose P (1..4)]\n",
                problem.c_str());
   std::exit(2);

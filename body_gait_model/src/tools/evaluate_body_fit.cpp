@@ -93,11 +93,7 @@ std::vector<Case> bvhCases(const std::vector<std::string>& items, const std::str
   const sim::BvhJointMap map = sim::loadBvhJointMap(map_path);
   std::vector<Case> cases;
   for (const std::string& item : items) {
-    const size_t equals = item.find('=');
-    const std::string file = equals == std::string::npos ? item : item.substr(equals + 1);
-    const std::string walk = std::filesystem::path(file).stem().string();
-    const std::string person =
-        equals == std::string::npos ? walk.substr(0, walk.find('_')) : item.substr(0, equals);
+    const auto [person, walk, file] = sim::parseBvhWalkFile(item);
     const sim::BvhSubject subject(sim::loadBvh(file), map, walk);
     const sim::GaitPoseFrames poses = sim::pickGaitPoses(subject);
     std::printf("%s (person %s): poses 1-4 at frames %d %d %d %d (1-based), %.2f m/s\n",

@@ -199,6 +199,16 @@ HumanBodySpec BvhSubject::body(int frame, const Anthropometry& girths) const {
   return spec;
 }
 
+BvhWalkFile parseBvhWalkFile(const std::string& item) {
+  const std::size_t equals = item.find('=');
+  BvhWalkFile walk;
+  walk.file = equals == std::string::npos ? item : item.substr(equals + 1);
+  walk.walk = std::filesystem::path(walk.file).stem().string();
+  walk.person = equals == std::string::npos ? walk.walk.substr(0, walk.walk.find('_'))
+                                            : item.substr(0, equals);
+  return walk;
+}
+
 GaitPoseFrames pickGaitPoses(const BvhSubject& subject) {
   const int frames = subject.frameCount();
   const double dt = subject.motion().frame_time;

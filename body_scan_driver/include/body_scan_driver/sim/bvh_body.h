@@ -80,6 +80,13 @@ struct GaitPoseFrames {
 // Throws std::runtime_error if the clip holds no complete set (too short, or not a walk).
 GaitPoseFrames pickGaitPoses(const BvhSubject& subject);
 
+// A walk named on a command line as [PERSON=]path/WALK.bvh: the person defaults to the file
+// name's part before '_' (CMU naming: 07_02.bvh is person "07"), the walk is the file's stem.
+struct BvhWalkFile {
+  std::string person, walk, file;
+};
+BvhWalkFile parseBvhWalkFile(const std::string& item);
+
 // Turns a placed body (BvhSubject::body) by `heading` about world z and moves it to `position`
 // (floor point under the pelvis): its frames, pose.heading and position.
 void moveBody(HumanBodySpec& spec, double heading, const Eigen::Vector3d& position);
