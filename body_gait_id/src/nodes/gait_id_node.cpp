@@ -130,15 +130,20 @@ class GaitIdNode {
     return true;
   }
 
+  // The answer's fields, shared by the Identify reply and the Identity message.
+  template <typename Out>
+  void fillIdentity(const Answer& answer, Out& out) const {
+    out.subject_id = answer.match.subject_id;
+    out.name = answer.name;
+    out.sequence = answer.match.sequence;
+    out.frame = answer.match.frame;
+    out.score = answer.match.score;
+    out.accepted = answer.match.score <= accept_threshold_;
+  }
+
   bool onIdentify(body_scan_msgs::Identify::Request& req, body_scan_msgs::Identify::Response& res) {
     try {
-      const Answer answer = identify(req.model);
-      res.subject_id = answer.match.subject_id;
-      res.name = answer.name;
-      res.sequence = answer.match.sequence;
-      res.frame = answer.match.frame;
-      res.score = answer.match.score;
-      res.accepted = answer.match.score <= accept_threshold_;
+      fillIdentity(identify(req.model), res);
       res.success = true;
     } catch (const GalleryError& e) {
       res.message = e.what();
@@ -184,15 +189,9 @@ class GaitIdNode {
 
   void onModel(const body_scan_msgs::BodyModel::ConstPtr& msg) {
     try {
-      const Answer answer = identify(*msg);
       body_scan_msgs::Identity identity;
       identity.header = msg->header;
-      identity.subject_id = answer.match.subject_id;
-      identity.name = answer.name;
-      identity.sequence = answer.match.sequence;
-      identity.frame = answer.match.frame;
-      identity.score = answer.match.score;
-      identity.accepted = answer.match.score <= accept_threshold_;
+      fillIdentity(identify(*msg), identity);
       identity_pub_.publish(identity);
       ROS_INFO("identified: subject %ld '%s', sequence %d, frame %d, score %.3f (%s)",
                static_cast<long>(identity.subject_id), identity.name.c_str(), identity.sequence,
