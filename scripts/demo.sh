@@ -46,11 +46,13 @@ fail() {
   exit 1
 }
 
-for _ in $(seq 360); do
-  rosservice list 2>/dev/null | grep -qx /body_scan/capture && break
+# The coordinator advertises /body_scan/capture once it has planned the timing groups; a
+# wall-clock deadline, as the pairs' start-up time varies with the machine's load.
+deadline=$((SECONDS + 300))
+until rosservice list 2>/dev/null | grep -qx /body_scan/capture; do
+  [ $SECONDS -lt $deadline ] || fail "/body_scan/capture did not come up within 300 s"
   sleep 0.5
 done
-rosservice list 2>/dev/null | grep -qx /body_scan/capture || fail "/body_scan/capture did not come up"
 
 rosrun body_scan_merge save_cloud _topic:=/body_scan/cloud _output:="$demo/full_scan.ply" \
   _pcd_output:="$demo/full_scan.pcd" _timeout:=180 > "$demo/save_cloud.log" 2>&1 &
