@@ -113,6 +113,38 @@ TEST(GaitIdEvaluation, CrossWalkProtocolOnThreePeople) {
   EXPECT_EQ(both.open_set->fpir.n, 40);
 }
 
+TEST(GaitIdEvaluation, SingleScanProbesAreTheWalksOwnFits) {
+  // The probes are walk 1's 4 fits themselves, each with its own body (what gait_id_node sees
+  // of a person scanned once), at their true frames 1, 6, 11, 16; the gallery's walks take the
+  // median body.
+  const FittedWalks walks = withMedianBody(smallRun().walks, 1);
+  const std::vector<FeatureRow> rows = thesisRows();
+  const ProbeSet probes = identifyProbes(walks, rows[1], 0, 1, 3, ProbeFrames::kSingleScans);
+  ASSERT_EQ(probes.probes.size(), 12u);  // 3 people x 4 scans
+  for (std::size_t i = 0; i < probes.probes.size(); ++i)
+    EXPECT_EQ(probes.probes[i].true_frame, body_gait::kRepresentativeFrames[i % 4]);
+  // Walk 1 kept each fit's own lengths: its scans differ from each other, unlike eta3's frames.
+  const body_gait::RepresentativePoses& raw = *smallRun().walks[0][1];
+  EXPECT_EQ((*walks[0][1])[0].r, raw[0].r);
+  EXPECT_NE((*walks[0][1])[0].r, (*walks[0][1])[1].r);
+  EXPECT_NE((*walks[0][0])[0].r, (*smallRun().walks[0][0])[0].r);  // walk 0: median body
+  const std::vector<NamedMetrics> results =
+      crossWalkProtocol(walks, rows, {}, false, 1, ProbeFrames::kSingleScans);
+  print(results);
+  // Measured (3 people, seed 1): 3D dynamic 10 / 12, dynamic+static 5 / 12 (chance 4 / 12):
+  // one fit's lengths are noisier than a walk's median (README, single-scan probes).
+  const RecognitionMetrics& both = row(results, "3D dynamic+static single scans").metrics;
+  const RecognitionMetrics& dynamic = row(results, "3D dynamic single scans").metrics;
+  EXPECT_EQ(both.enrolled_probes, 12);
+  EXPECT_GE(dynamic.identification.rate, 0.75);
+  EXPECT_GE(both.identification.rate, 0.4);
+  // The single-scan noise: walk 1's fits against walk 0's frames 1, 6, 11, 16.
+  const FeatureNoise walk_noise = crossWalkNoise(walks, View::k3D, 0, 1);
+  const FeatureNoise scan_noise = crossWalkNoise(walks, View::k3D, 0, 1, true);
+  EXPECT_GT(scan_noise.statics.norm(), 0.0);
+  EXPECT_NE(scan_noise.statics, walk_noise.statics);
+}
+
 TEST(GaitIdEvaluation, PeopleWhoseWalkFailedAreLeftOutAndSaidSo) {
   FittedWalks walks = smallRun().walks;
   walks[1][0].reset();  // person 1's gallery walk could not be fitted

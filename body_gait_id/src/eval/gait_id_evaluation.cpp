@@ -349,16 +349,27 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row,
       ++result.dropped_people;  // no probes from this person
       continue;
     }
-    for (int f = 0; f < static_cast<int>(cycles->eta3.frames.size()); ++f) {
-      const bool representative = std::find(body_gait::kRepresentativeFrames.begin(),
-                                            body_gait::kRepresentativeFrames.end(),
-                                            f + 1) != body_gait::kRepresentativeFrames.end();
-      if (representative && frames == ProbeFrames::kInterpolated) continue;
+    // (model, true frame) of every probe of this person.
+    std::vector<std::pair<const body_gait::BodyModel*, int>> probe_models;
+    if (frames == ProbeFrames::kSingleScans) {
+      const body_gait::RepresentativePoses& scans = *walks[person].at(probe_trial);
+      for (int k = 0; k < 4; ++k)
+        probe_models.push_back({&scans[k], body_gait::kRepresentativeFrames[k]});
+    } else {
+      for (int f = 0; f < static_cast<int>(cycles->eta3.frames.size()); ++f) {
+        const bool representative = std::find(body_gait::kRepresentativeFrames.begin(),
+                                              body_gait::kRepresentativeFrames.end(),
+                                              f + 1) != body_gait::kRepresentativeFrames.end();
+        if (representative && frames == ProbeFrames::kInterpolated) continue;
+        probe_models.push_back({&cycles->eta3.frames[f], f + 1});
+      }
+    }
+    for (const auto& [model, true_frame] : probe_models) {
       ProbeResult probe;
       probe.true_subject = subjectId(person);
-      probe.true_frame = f + 1;
+      probe.true_frame = true_frame;
       probe.enrolled = enrolled_person;
-      const GaitFeatures features = gaitFeatures(cycles->eta3.frames[f], row.view);
+      const GaitFeatures features = gaitFeatures(*model, row.view);
       if (matcher) {
         for (const Match& m : matcher->rankSubjects(features))
           probe.candidates.push_back({m.subject_id, m.frame, m.score});
@@ -393,7 +404,7 @@ std::vector<NamedMetrics> thesisProtocol(const FittedWalks& walks,
 std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
                                             const std::vector<FeatureRow>& rows,
                                             const TransformOptions& transform, bool per_walk,
-                                            int gallery_walks) {
+                                            int gallery_walks, ProbeFrames probes) {
   std::vector<NamedMetrics> results;
   const int people = static_cast<int>(walks.size());
   if (gallery_walks < 1)
@@ -407,18 +418,19 @@ std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
   for (int t = 0; t < gallery_walks; ++t) gallery_trials.push_back(t);
   const int probe_trial = gallery_walks;
   const std::string suffix =
-      transformSuffix(transform) + (per_walk ? " per walk" : "") +
+      transformSuffix(transform) + (probes == ProbeFrames::kSingleScans ? " single scans" : "") +
+      (per_walk ? " per walk" : "") +
       (gallery_walks > 1 ? ", " + std::to_string(gallery_walks) + " gallery walks" : "");
   auto decided = [per_walk](const ProbeSet& set) {
     return evaluateRecognition(per_walk ? perWalkProbes(set.probes) : set.probes);
   };
   for (const FeatureRow& row : rows) {
-    const ProbeSet closed = identifyProbes(walks, row, gallery_trials, probe_trial, people,
-                                           ProbeFrames::kAll, transform);
+    const ProbeSet closed =
+        identifyProbes(walks, row, gallery_trials, probe_trial, people, probes, transform);
     RecognitionMetrics metrics = decided(closed);
     if (people >= 2) {
-      const ProbeSet open = identifyProbes(walks, row, gallery_trials, probe_trial, people / 2,
-                                           ProbeFrames::kAll, transform);
+      const ProbeSet open =
+          identifyProbes(walks, row, gallery_trials, probe_trial, people / 2, probes, transform);
       metrics.open_set = decided(open).open_set;
     }
     results.push_back(
@@ -553,16 +565,26 @@ std::vector<MeasureNoise> bodyMeasureNoise(const FittedWalks& walks, int trial_a
   return result;
 }
 
-FeatureNoise crossWalkNoise(const FittedWalks& walks, View view, int trial_a, int trial_b) {
+FeatureNoise crossWalkNoise(const FittedWalks& walks, View view, int trial_a, int trial_b,
+                            bool single_scans_b) {
   Eigen::VectorXd sum_d, sum_s, sum_b;
-  int count = 0;
+  int count = 0, people = 0;
   for (const auto& person : walks) {
     const std::optional<WalkCycles> a = cyclesOf(person.at(trial_a));
     const std::optional<WalkCycles> b = cyclesOf(person.at(trial_b));
     if (!a || !b) continue;
-    for (std::size_t f = 0; f < a->eta3.frames.size(); ++f) {
-      const GaitFeatures fa = gaitFeatures(a->eta3.frames[f], view);
-      const GaitFeatures fb = gaitFeatures(b->eta3.frames[f], view);
+    ++people;
+    // Pairs (walk a's model, walk b's model) of the same gait-cycle frame.
+    std::vector<std::pair<const body_gait::BodyModel*, const body_gait::BodyModel*>> pairs;
+    for (std::size_t f = 0; f < a->eta3.frames.size(); ++f)
+      if (!single_scans_b) pairs.push_back({&a->eta3.frames[f], &b->eta3.frames[f]});
+    if (single_scans_b)
+      for (int k = 0; k < 4; ++k)
+        pairs.push_back(
+            {&a->eta3.frames[body_gait::kRepresentativeFrames[k] - 1], &(*person.at(trial_b))[k]});
+    for (const auto& [model_a, model_b] : pairs) {
+      const GaitFeatures fa = gaitFeatures(*model_a, view);
+      const GaitFeatures fb = gaitFeatures(*model_b, view);
       const Eigen::VectorXd dd = (fa.dynamic - fb.dynamic).cwiseAbs2();
       const Eigen::VectorXd ds = (fa.statics - fb.statics).cwiseAbs2();
       const Eigen::VectorXd db = (fa.shape - fb.shape).cwiseAbs2();
@@ -572,17 +594,17 @@ FeatureNoise crossWalkNoise(const FittedWalks& walks, View view, int trial_a, in
       ++count;
     }
   }
-  if (count < 2 * body_gait::kGaitCycleFrames)
+  if (people < 2)
     throw std::runtime_error(
         "cross-walk noise: fewer than 2 people with both walks fitted; use more people");
   const double n = 2.0 * count;  // E[(a - b)^2] = 2 sigma^2
   return {(sum_d / n).cwiseSqrt(), (sum_s / n).cwiseSqrt(), (sum_b / n).cwiseSqrt()};
 }
 
-FittedWalks withMedianBody(FittedWalks walks) {
+FittedWalks withMedianBody(FittedWalks walks, int trials) {
   for (auto& person : walks)
-    for (auto& walk : person)
-      if (walk) walk = body_gait_id::withMedianBody(*walk);
+    for (int t = 0; t < std::min<int>(trials, static_cast<int>(person.size())); ++t)
+      if (person[t]) person[t] = body_gait_id::withMedianBody(*person[t]);
   return walks;
 }
 

@@ -6,7 +6,7 @@
 //   evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N] [--scanner sampler|full|truth]
 //                    [--columns C] [--noise SIGMA_M] [--threads T] [--cache DIR] [--seed S]
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
-//                    [--probe-frames interpolated|all] [--per-walk 1] [--gallery-walks N]
+//                    [--probe-frames interpolated|all|scans] [--per-walk 1] [--gallery-walks N]
 //                    [--shape 1] [--noise-seed S2 [--noise-subjects N2] [--noise-first K]]
 //                    [--walk-body mean|median]
 //                    [--write-noise FILE.yaml | --noise-file FILE.yaml] [--robust-sigmas C]
@@ -38,6 +38,9 @@
 // people. Thesis protocol: the probes are eta3's 16 interpolated frames per person as in the thesis
 // (96 poses of 6 subjects);
 // --probe-frames all adds the 4 representative frames, which are in the training sets too.
+// --probe-frames scans (cross-walk): the probes are walk 1's 4 fits as single scans, each with
+// its own body, as gait_id_node sees a person scanned once; with --noise-seed the noise is
+// learned the same way (single scans against the other walk's median body).
 // Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
 #include <body_gait_id/eval/gait_id_evaluation.h>
 #include <body_gait_id/feature_noise_file.h>
@@ -55,18 +58,19 @@ namespace {
 using namespace body_gait_id::eval;
 
 [[noreturn]] void usage(const std::string& problem) {
-  std::fprintf(stderr,
-               "evaluate_gait_id: %s\n"
-               "usage: evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N (>= 2; "
-               "default 6, cross-walk 50)] [--scanner sampler|full|truth] [--columns C (>= 20)] "
-               "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
-               "[--transform none|pca|lda] [--components K] [--rows all|3d] "
-               "[--probe-frames interpolated|all] [--per-walk 1] [--gallery-walks N] [--shape 1] "
-               "[--noise-seed S2 [--noise-subjects N2 (default 50)] [--noise-first K]] "
-               "[--walk-body mean|median] [--write-noise FILE.yaml | --noise-file FILE.yaml] "
-               "[--robust-sigmas C] [--measure-noise 1] [--report FILE.yaml] [--plot FILE.png] "
-               "[--quiet 1] [--bvh [PERSON=]WALK.bvh,... [--bvh-map MAP.yaml]]\n",
-               problem.c_str());
+  std::fprintf(
+      stderr,
+      "evaluate_gait_id: %s\n"
+      "usage: evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N (>= 2; "
+      "default 6, cross-walk 50)] [--scanner sampler|full|truth] [--columns C (>= 20)] "
+      "[--noise SIGMA_M] [--threads T (1-16)] [--cache DIR] [--seed S] "
+      "[--transform none|pca|lda] [--components K] [--rows all|3d] "
+      "[--probe-frames interpolated|all|scans] [--per-walk 1] [--gallery-walks N] [--shape 1] "
+      "[--noise-seed S2 [--noise-subjects N2 (default 50)] [--noise-first K]] "
+      "[--walk-body mean|median] [--write-noise FILE.yaml | --noise-file FILE.yaml] "
+      "[--robust-sigmas C] [--measure-noise 1] [--report FILE.yaml] [--plot FILE.png] "
+      "[--quiet 1] [--bvh [PERSON=]WALK.bvh,... [--bvh-map MAP.yaml]]\n",
+      problem.c_str());
   std::exit(2);
 }
 
@@ -148,8 +152,10 @@ int main(int argc, char** argv) {
         probe_frames = ProbeFrames::kInterpolated;
       else if (kind == "all")
         probe_frames = ProbeFrames::kAll;
+      else if (kind == "scans")
+        probe_frames = ProbeFrames::kSingleScans;
       else
-        usage("--probe-frames must be interpolated or all, got '" + kind + "'");
+        usage("--probe-frames must be interpolated, all or scans, got '" + kind + "'");
     } else if (flag == "--report") {
       report_path = value;
     } else if (flag == "--plot") {
@@ -209,6 +215,10 @@ int main(int argc, char** argv) {
   }
   if (subjects == 0) subjects = cross_walk ? 50 : 6;
   if (subjects < 2) usage("--subjects must be >= 2 (identification needs a choice)");
+  if (probe_frames == ProbeFrames::kSingleScans && !cross_walk)
+    usage(
+        "--probe-frames scans is for the cross-walk protocol (the thesis protocol's scans "
+        "are its gallery)");
   if (scan.sampler_columns < 20) usage("--columns must be >= 20");
   if (scan.threads < 1 || scan.threads > 16) usage("--threads must be 1..16");
   if (noise_first < 0) usage("--noise-first must be >= 0");
@@ -260,7 +270,12 @@ int main(int argc, char** argv) {
         std::printf("  left out: %s walk %zu: %s\n", people.names[person].c_str(), trial,
                     reason.c_str());
       }
-    if (median_body) walks = withMedianBody(std::move(walks));
+    // Single-scan probes keep each fit's own body; the gallery walks take the median.
+    const bool single_scans = probe_frames == ProbeFrames::kSingleScans;
+    const ProbeFrames cross_probes = single_scans ? ProbeFrames::kSingleScans : ProbeFrames::kAll;
+    if (median_body)
+      walks = single_scans ? withMedianBody(std::move(walks), gallery_walks)
+                           : withMedianBody(std::move(walks));
     TransformOptions weighted;
     if (noise_seed != 0) {
       // Development people (another seed: nobody of the test set) with two walks each.
@@ -275,9 +290,11 @@ int main(int argc, char** argv) {
       };
       FittedWalks dev_walks = fitWalks(dev, 2, scan);
       dev_walks.erase(dev_walks.begin(), dev_walks.begin() + noise_first);
-      if (median_body) dev_walks = withMedianBody(std::move(dev_walks));
+      if (median_body)
+        dev_walks = single_scans ? withMedianBody(std::move(dev_walks), 1)
+                                 : withMedianBody(std::move(dev_walks));
       weighted.kind = FeatureTransform::kNoiseWeighted;
-      weighted.noise = crossWalkNoise(dev_walks);
+      weighted.noise = crossWalkNoise(dev_walks, body_gait_id::View::k3D, 0, 1, single_scans);
       if (!noise_path.empty()) {
         const std::string source = std::string(scan.scanner == ScannerKind::kFull      ? "full"
                                                : scan.scanner == ScannerKind::kSampler ? "sampler"
@@ -285,7 +302,8 @@ int main(int argc, char** argv) {
                                    " scanner, " + std::to_string(noise_subjects) + " people from " +
                                    std::to_string(noise_first) + ", seed " +
                                    std::to_string(noise_seed) + ", " +
-                                   (median_body ? "median" : "mean") + " body of a walk";
+                                   (median_body ? "median" : "mean") + " body of a walk" +
+                                   (single_scans ? ", single-scan probes" : "");
         body_scan::writeFileAtomically(noise_path,
                                        body_gait_id::featureNoiseYaml(weighted.noise, source));
       }
@@ -297,14 +315,15 @@ int main(int argc, char** argv) {
         std::printf("%-30s %9.4f %9.4f %9.4f %7.2f\n", m.name.c_str(), m.mean, m.between_sd,
                     m.within_sd, m.within_sd > 0 ? std::pow(m.between_sd / m.within_sd, 2) : 0.0);
     }
-    results = cross_walk ? crossWalkProtocol(walks, rows, {}, false, gallery_walks)
+    results = cross_walk ? crossWalkProtocol(walks, rows, {}, false, gallery_walks, cross_probes)
                          : thesisProtocol(walks, rows, {}, probe_frames);
     auto add = [&results](std::vector<NamedMetrics> extra) {
       for (NamedMetrics& r : extra) results.push_back(std::move(r));
     };
     if (transform.kind != FeatureTransform::kNone)
-      add(cross_walk ? crossWalkProtocol(walks, rows_3d, transform, false, gallery_walks)
-                     : thesisProtocol(walks, rows_3d, transform, probe_frames));
+      add(cross_walk
+              ? crossWalkProtocol(walks, rows_3d, transform, false, gallery_walks, cross_probes)
+              : thesisProtocol(walks, rows_3d, transform, probe_frames));
     if (!noise_file.empty()) {
       weighted.kind = FeatureTransform::kNoiseWeighted;
       weighted.noise = body_gait_id::readFeatureNoise(noise_file);
@@ -313,18 +332,20 @@ int main(int argc, char** argv) {
     robust.truncate_sigmas = robust_sigmas;
     const bool with_robust = weighted.kind == FeatureTransform::kNoiseWeighted && robust_sigmas > 0;
     if (with_robust)
-      add(cross_walk ? crossWalkProtocol(walks, rows_3d, robust, false, gallery_walks)
+      add(cross_walk ? crossWalkProtocol(walks, rows_3d, robust, false, gallery_walks, cross_probes)
                      : thesisProtocol(walks, rows_3d, robust, probe_frames));
     if (weighted.kind == FeatureTransform::kNoiseWeighted)
-      add(cross_walk ? crossWalkProtocol(walks, rows_3d, weighted, false, gallery_walks)
-                     : thesisProtocol(walks, rows_3d, weighted, probe_frames));
+      add(cross_walk
+              ? crossWalkProtocol(walks, rows_3d, weighted, false, gallery_walks, cross_probes)
+              : thesisProtocol(walks, rows_3d, weighted, probe_frames));
     if (per_walk && cross_walk) {
-      add(crossWalkProtocol(walks, rows_3d, {}, true, gallery_walks));
+      add(crossWalkProtocol(walks, rows_3d, {}, true, gallery_walks, cross_probes));
       if (transform.kind != FeatureTransform::kNone)
-        add(crossWalkProtocol(walks, rows_3d, transform, true, gallery_walks));
+        add(crossWalkProtocol(walks, rows_3d, transform, true, gallery_walks, cross_probes));
       if (weighted.kind == FeatureTransform::kNoiseWeighted)
-        add(crossWalkProtocol(walks, rows_3d, weighted, true, gallery_walks));
-      if (with_robust) add(crossWalkProtocol(walks, rows_3d, robust, true, gallery_walks));
+        add(crossWalkProtocol(walks, rows_3d, weighted, true, gallery_walks, cross_probes));
+      if (with_robust)
+        add(crossWalkProtocol(walks, rows_3d, robust, true, gallery_walks, cross_probes));
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "evaluate_gait_id: %s\n", e.what());
@@ -356,20 +377,22 @@ int main(int argc, char** argv) {
   }
 
   RecognitionReport report;
-  report.settings = {{"protocol", protocol},
-                     {"people", bvh_files.empty() ? "simulated" : "motion capture (BVH)"},
-                     {"subjects", std::to_string(subjects)},
-                     {"gallery_walks", std::to_string(cross_walk ? gallery_walks : 1)},
-                     {"scanner", scanner_name},
-                     {"seed", std::to_string(seed)},
-                     {"probe_frames", cross_walk                          ? "all (walk 1)"
-                                      : probe_frames == ProbeFrames::kAll ? "all"
-                                                                          : "interpolated"},
-                     {"scans", std::to_string(summary.scans)},
-                     {"cached_scans", std::to_string(summary.cached)},
-                     {"failed_scans", std::to_string(summary.failed)},
-                     {"low_quality_fits", std::to_string(summary.low_quality)},
-                     {"scan_and_fit_seconds", std::to_string(summary.seconds)}};
+  report.settings = {
+      {"protocol", protocol},
+      {"people", bvh_files.empty() ? "simulated" : "motion capture (BVH)"},
+      {"subjects", std::to_string(subjects)},
+      {"gallery_walks", std::to_string(cross_walk ? gallery_walks : 1)},
+      {"scanner", scanner_name},
+      {"seed", std::to_string(seed)},
+      {"probe_frames", probe_frames == ProbeFrames::kSingleScans ? "single scans (walk 1's 4 fits)"
+                       : cross_walk                              ? "all (walk 1)"
+                       : probe_frames == ProbeFrames::kAll       ? "all"
+                                                                 : "interpolated"},
+      {"scans", std::to_string(summary.scans)},
+      {"cached_scans", std::to_string(summary.cached)},
+      {"failed_scans", std::to_string(summary.failed)},
+      {"low_quality_fits", std::to_string(summary.low_quality)},
+      {"scan_and_fit_seconds", std::to_string(summary.seconds)}};
   if (scan.scanner == ScannerKind::kSampler) {
     report.settings.push_back({"sampler_columns", std::to_string(scan.sampler_columns)});
     report.settings.push_back({"sampler_noise_m", std::to_string(scan.sampler_noise)});

@@ -95,8 +95,10 @@ struct TransformOptions {
 };
 
 // Which frames of eta3 probe: the 16 interpolated ones, or all 20 (with the representative
-// frames 1, 6, 11, 16, whose poses s1..s4 are also in eta1 / eta2).
-enum class ProbeFrames { kInterpolated, kAll };
+// frames 1, 6, 11, 16, whose poses s1..s4 are also in eta1 / eta2). kSingleScans: not a
+// reconstructed walk but the probe walk's 4 fits as they are, each with its own body (true
+// frames 1, 6, 11, 16): what the node sees when a person is scanned once.
+enum class ProbeFrames { kInterpolated, kAll, kSingleScans };
 
 // The probes of one evaluation. Gallery: eta1 and eta2 of walk `gallery_trial` (40 poses, 5.8.3)
 // of the first `enrolled` people; probes: frames of eta3 of walk `probe_trial` of every person
@@ -134,7 +136,8 @@ std::vector<NamedMetrics> thesisProtocol(const FittedWalks& walks,
 std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
                                             const std::vector<FeatureRow>& rows,
                                             const TransformOptions& transform = {},
-                                            bool per_walk = false, int gallery_walks = 1);
+                                            bool per_walk = false, int gallery_walks = 1,
+                                            ProbeFrames probes = ProbeFrames::kAll);
 
 }  // namespace body_gait_id::eval
 
@@ -152,12 +155,15 @@ struct MeasureNoise {
 };
 // The within-subject noise of every raw feature component of a view between walks trial_a and
 // trial_b of the same people: RMS over people and eta3 frames of (frame f of walk a - frame f of
-// walk b) / sqrt 2. Throws std::runtime_error when fewer than 2 people have both walks.
+// walk b) / sqrt 2. single_scans_b: walk b's 4 fits as single scans (each its own body)
+// against walk a's eta3 frames 1, 6, 11, 16: the noise of single-scan probes. Throws
+// std::runtime_error when fewer than 2 people have both walks.
 FeatureNoise crossWalkNoise(const FittedWalks& walks, View view = View::k3D, int trial_a = 0,
-                            int trial_b = 1);
+                            int trial_b = 1, bool single_scans_b = false);
 
-// body_gait_id::withMedianBody (enrollment.h) applied to every fitted walk.
-FittedWalks withMedianBody(FittedWalks walks);
+// body_gait_id::withMedianBody (enrollment.h) applied to every fitted walk of trials
+// 0 .. trials - 1 (all by default; single-scan probes keep their own bodies).
+FittedWalks withMedianBody(FittedWalks walks, int trials = 1 << 30);
 
 std::vector<MeasureNoise> bodyMeasureNoise(const FittedWalks& walks, int trial_a = 0,
                                            int trial_b = 1);
