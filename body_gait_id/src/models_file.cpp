@@ -1,5 +1,6 @@
 // YAML body models and the gallery export (models_file.h).
 #include <body_gait_id/models_file.h>
+#include <body_gait_model/gait_poses_file.h>
 #include <yaml-cpp/yaml.h>
 
 #include <iomanip>
@@ -13,35 +14,10 @@ namespace {
 using body_gait::BodyModel;
 
 template <typename Vector>
-void readArray(const YAML::Node& pose, const char* key, Vector& out, const std::string& where) {
-  const YAML::Node node = pose[key];
-  if (!node || !node.IsSequence() || node.size() != std::size_t(out.size()))
-    throw std::runtime_error(where + ": '" + key + "' must be a list of " +
-                             std::to_string(out.size()) + " numbers");
-  for (std::size_t i = 0; i < node.size(); ++i) out[i] = node[i].as<double>();
-}
-
-template <typename Vector>
 YAML::Node list(const Vector& v) {
   YAML::Node node(YAML::NodeType::Sequence);
   for (Eigen::Index i = 0; i < Eigen::Index(v.size()); ++i) node.push_back(v[i]);
   node.SetStyle(YAML::EmitterStyle::Flow);
-  return node;
-}
-
-YAML::Node modelNode(const BodyModel& m) {
-  YAML::Node node;
-  node["p"] = list(m.p);
-  node["q"] = list(m.q);
-  node["r"] = list(m.r);
-  node["proximal_radius"] = list(
-      Eigen::Map<const Eigen::VectorXd>(m.shape.proximal_radius.data(), body_gait::kSegmentCount));
-  node["distal_radius"] = list(
-      Eigen::Map<const Eigen::VectorXd>(m.shape.distal_radius.data(), body_gait::kSegmentCount));
-  node["shoulder_half_width"] = m.shape.shoulder_half_width;
-  node["shoulder_drop"] = m.shape.shoulder_drop;
-  node["hip_half_width"] = m.shape.hip_half_width;
-  node["hip_rise"] = m.shape.hip_rise;
   return node;
 }
 
@@ -55,64 +31,11 @@ void emit(std::ostream& out, const YAML::Node& node) {
 }  // namespace
 
 std::vector<BodyModel> readBodyModels(const std::string& path) {
-  std::vector<YAML::Node> documents;
-  try {
-    documents = YAML::LoadAllFromFile(path);
-  } catch (const YAML::BadFile&) {
-    throw std::runtime_error("body models file '" + path +
-                             "' cannot be read: check the path (a YAML file with 'poses:')");
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error("body models file '" + path + "' is not valid YAML: " + e.what());
-  }
-  // Either one document with a 'poses:' list, or BodyModel messages one per document as
-  // `rostopic echo /body_gait/model` prints them (same keys).
-  std::vector<YAML::Node> poses;
-  if (documents.size() == 1 && documents[0].IsMap() && documents[0]["poses"]) {
-    if (!documents[0]["poses"].IsSequence())
-      throw std::runtime_error("body models file '" + path + "': 'poses' must be a list");
-    for (const YAML::Node& pose : documents[0]["poses"]) poses.push_back(pose);
-  } else {
-    for (const YAML::Node& document : documents)
-      if (document.IsMap() && document["p"]) poses.push_back(document);
-  }
-  if (poses.empty())
-    throw std::runtime_error("body models file '" + path +
-                             "' has no 'poses:' list and no BodyModel messages (each pose: p, q, "
-                             "r; see models_file.h)");
-  std::vector<BodyModel> models;
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    const std::string where = "body models file '" + path + "', pose " + std::to_string(i + 1);
-    const YAML::Node& pose = poses[i];
-    try {
-      BodyModel m;
-      m.shape = body_gait::standingModel(1.70).shape;
-      readArray(pose, "p", m.p, where);
-      readArray(pose, "q", m.q, where);
-      readArray(pose, "r", m.r, where);
-      if (pose["proximal_radius"]) {
-        Eigen::Map<Eigen::VectorXd> proximal(m.shape.proximal_radius.data(),
-                                             body_gait::kSegmentCount);
-        Eigen::Map<Eigen::VectorXd> distal(m.shape.distal_radius.data(), body_gait::kSegmentCount);
-        readArray(pose, "proximal_radius", proximal, where);
-        readArray(pose, "distal_radius", distal, where);
-      }
-      for (auto [key, value] : {std::pair{"shoulder_half_width", &m.shape.shoulder_half_width},
-                                {"shoulder_drop", &m.shape.shoulder_drop},
-                                {"hip_half_width", &m.shape.hip_half_width},
-                                {"hip_rise", &m.shape.hip_rise}})
-        if (pose[key]) *value = pose[key].as<double>();
-      models.push_back(m);
-    } catch (const YAML::Exception& e) {
-      throw std::runtime_error(where + ": not a number (" + e.what() + ")");
-    }
-  }
-  return models;
+  return body_gait::loadBodyModels(path);
 }
 
 void writeBodyModels(std::ostream& out, const std::vector<BodyModel>& models) {
-  YAML::Node root;
-  for (const BodyModel& m : models) root["poses"].push_back(modelNode(m));
-  emit(out, root);
+  out << body_gait::bodyModelsYaml(models);
 }
 
 void exportGalleryYaml(const GalleryDatabase& db, std::ostream& out) {
@@ -135,7 +58,7 @@ void exportGalleryYaml(const GalleryDatabase& db, std::ostream& out) {
     root["subjects"].push_back(node);
   }
   for (const PoseRecord& record : db.poseRecords()) {
-    YAML::Node pose = modelNode(record.model);
+    YAML::Node pose = body_gait::bodyModelToYaml(record.model);
     pose["sequence"] = record.sequence;
     pose["frame"] = record.frame;
     root["subjects"][index.at(record.subject_id)]["poses"].push_back(pose);

@@ -38,9 +38,11 @@
 #include <body_gait_model/eval/body_cloud_sampler.h>
 #include <body_gait_model/eval/full_scanner_body.h>
 #include <body_gait_model/eval/gait_subjects.h>
+#include <body_gait_model/gait_poses_file.h>
 #include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/sim/bvh_body.h>
 #include <body_scan_merge/ply_writer.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <chrono>
@@ -157,15 +159,6 @@ cv::Mat sidePanel(const std::vector<Eigen::Vector3d>& points, const body_gait::P
   cv::putText(panel, title, cv::Point(10, 25), cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0),
               1, cv::LINE_AA);
   return panel;
-}
-
-template <typename Vector>
-std::string yamlList(const Vector& values) {
-  std::ostringstream text;
-  text.precision(17);
-  text << "[";
-  for (int i = 0; i < int(values.size()); ++i) text << (i ? ", " : "") << values[i];
-  return text.str() + "]";
 }
 
 }  // namespace
@@ -302,7 +295,7 @@ int main(int argc, char** argv) {
   }
 
   std::ostringstream yaml;
-  std::map<std::string, std::string> walk_models;  // walk -> its models file
+  std::map<std::string, YAML::Node> walk_models;  // walk -> its models file
   yaml << "cases:\n";
   double joint = 0, length = 0, swing = 0, seconds = 0, points = 0;
   int cases = 0, right = 0, low_quality = 0;
@@ -371,26 +364,15 @@ int main(int argc, char** argv) {
     if (each.frame >= 0) yaml << ", person: '" << each.person << "', frame: " << each.frame + 1;
     yaml << "}\n";
     if (each.frame >= 0) {
-      std::string& file = walk_models[each.walk];
-      if (file.empty())
-        file = "# Fitted body models of walk " + each.walk +
-               " (evaluate_body_fit --bvh --models): the 4 poses of\n# thesis 5.3 in order s1..s4; "
-               "body_gait_id's readBodyModels reads 'poses'.\nperson: '" +
-               each.person + "'\nwalk: '" + each.walk + "'\nposes:\n";
-      const body_gait::BodyShape& shape = fit.model.shape;
-      std::ostringstream pose_line;
-      pose_line.precision(17);
-      pose_line << "  - {frame: " << each.frame + 1
-                << ", low_quality: " << (fit.quality.low_quality ? "true" : "false")
-                << ",\n     p: " << yamlList(fit.model.p) << ",\n     q: " << yamlList(fit.model.q)
-                << ",\n     r: " << yamlList(fit.model.r)
-                << ",\n     proximal_radius: " << yamlList(shape.proximal_radius)
-                << ",\n     distal_radius: " << yamlList(shape.distal_radius)
-                << ",\n     shoulder_half_width: " << shape.shoulder_half_width
-                << ", shoulder_drop: " << shape.shoulder_drop
-                << ", hip_half_width: " << shape.hip_half_width << ", hip_rise: " << shape.hip_rise
-                << "}\n";
-      file += pose_line.str();
+      YAML::Node& file = walk_models[each.walk];
+      if (!file["walk"]) {
+        file["person"] = each.person;
+        file["walk"] = each.walk;
+      }
+      YAML::Node pose_node = body_gait::bodyModelToYaml(fit.model);
+      pose_node["frame"] = each.frame + 1;
+      pose_node["low_quality"] = fit.quality.low_quality;
+      file["poses"].push_back(pose_node);
     }
     if (per_joint) {
       for (const auto& [name, error] : errors.joint_error)
@@ -457,8 +439,17 @@ int main(int argc, char** argv) {
   if (!models_out.empty()) {
     try {
       std::filesystem::create_directories(models_out);
-      for (const auto& [walk, text] : walk_models)
-        body_scan::writeFileAtomically(models_out + "/" + walk + ".yaml", text);
+      for (const auto& [walk, node] : walk_models) {
+        YAML::Emitter text;
+        text.SetDoublePrecision(17);
+        text << node;
+        body_scan::writeFileAtomically(
+            models_out + "/" + walk + ".yaml",
+            "# Fitted body models of walk " + walk +
+                " (evaluate_body_fit --bvh --models): the 4 poses of\n# thesis 5.3 in order "
+                "s1..s4 (body_gait_model/gait_poses_file.h, with the frame and fit quality).\n" +
+                text.c_str() + "\n");
+      }
     } catch (const std::exception& error) {
       std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
       return 1;
