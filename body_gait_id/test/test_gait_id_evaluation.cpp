@@ -4,6 +4,7 @@
 // the fitter's run-to-run stability only.
 #include <body_gait_id/eval/gait_id_evaluation.h>
 #include <body_gait_model/eval/gait_subjects.h>
+#include <body_scan_driver/sim/data_paths.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -196,15 +197,15 @@ TEST(GaitIdEvaluation, LearnedProjectionsIdentifyToo) {
   }
 }
 
-// Issue 7: the CMU walks (../shared/data/bvh; skipped when absent) as the people, models read
-// off their skeletons (no scan, no fit: fast, and the upper bound of the features on real
-// walks). Every probe frame of another walk finds its person; a person with one walk is refused.
+// Issue 7: the CMU walks (body_scan_driver/data/cmu_walks) as the people, models read off
+// their skeletons (no scan, no fit: fast, and the upper bound of the features on real walks).
+// Every probe frame of another walk finds its person; a person with one walk is refused.
 TEST(GaitIdEvaluation, MotionCaptureWalksAsPeople) {
-  const char* dir = std::getenv("BODY_SCAN_BVH_DIR");
-  const std::string bvh = dir ? dir : BODY_SCAN_BVH_DIR;
-  if (!std::filesystem::exists(bvh + "/07_02.bvh"))
-    GTEST_SKIP() << "CMU walks not found in " << bvh << " (set BODY_SCAN_BVH_DIR)";
-  const std::string map = BODY_SCAN_DRIVER_CONFIG_DIR "/bvh/cmu_joint_map.yaml";
+  const std::string bvh = body_scan_driver::sim::cmuWalksDir();
+  ASSERT_TRUE(std::filesystem::exists(bvh + "/07_02.bvh"))
+      << "CMU walks not found in " << bvh
+      << " (body_scan_driver/data/cmu_walks, or BODY_SCAN_BVH_DIR naming a folder with them)";
+  const std::string map = body_scan_driver::sim::driverConfigDir() + "/bvh/cmu_joint_map.yaml";
   std::vector<std::string> files;
   for (const char* walk : {"07_02", "07_08", "08_03", "08_08", "35_01", "35_02"})
     files.push_back(bvh + "/" + walk + ".bvh");

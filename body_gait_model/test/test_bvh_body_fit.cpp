@@ -1,9 +1,10 @@
-// Issue 7 on a real walk: the CMU walk 07_02 (motion capture, ../shared/data/bvh; skipped when
-// absent) drives the simulated body; its 4 representative poses of 5.3 are scanned by the full
+// Issue 7 on a real walk: the CMU walk 07_02 (motion capture, body_scan_driver/data/cmu_walks)
+// drives the simulated body; its 4 representative poses of 5.3 are scanned by the full
 // scanner and fitted; errors are against the BVH joints. Figures: evaluate_body_fit --bvh.
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/eval/full_scanner_body.h>
 #include <body_scan_driver/sim/bvh_body.h>
+#include <body_scan_driver/sim/data_paths.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,19 +18,16 @@ namespace {
 namespace sim = body_scan_driver::sim;
 constexpr double kPi = 3.14159265358979323846;
 
-std::string walkPath(const std::string& walk) {
-  const char* dir = std::getenv("BODY_SCAN_BVH_DIR");
-  return std::string(dir ? dir : BODY_SCAN_BVH_DIR) + "/" + walk + ".bvh";
-}
+std::string walkPath(const std::string& walk) { return sim::cmuWalksDir() + "/" + walk + ".bvh"; }
 
 TEST(BvhBodyFit, FourPosesOfARealWalkScannedAndFitted) {
   const std::string path = walkPath("07_02");
-  if (!std::filesystem::exists(path))
-    GTEST_SKIP() << "CMU walk not found: " << path
-                 << " (set BODY_SCAN_BVH_DIR to the folder with 07_02.bvh)";
+  ASSERT_TRUE(std::filesystem::exists(path))
+      << "CMU walk not found: " << path
+      << " (body_scan_driver/data/cmu_walks, or BODY_SCAN_BVH_DIR naming a folder with it)";
   const sim::BvhSubject subject(
-      sim::loadBvh(path),
-      sim::loadBvhJointMap(BODY_SCAN_DRIVER_CONFIG_DIR "/bvh/cmu_joint_map.yaml"), "07_02");
+      sim::loadBvh(path), sim::loadBvhJointMap(sim::driverConfigDir() + "/bvh/cmu_joint_map.yaml"),
+      "07_02");
   const sim::GaitPoseFrames poses = sim::pickGaitPoses(subject);
   // The frames bvh_gait_poses reports (README), 0-based here.
   EXPECT_EQ(poses.frame, (std::array<int, 4>{10, 38, 74, 107}));

@@ -5,6 +5,7 @@
 #include <body_scan_calib/calibration_capture.h>
 #include <body_scan_calib/calibration_rig.h>
 #include <body_scan_calib/capture_folder.h>
+#include <body_scan_calib/sim/calibration_scenes.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>

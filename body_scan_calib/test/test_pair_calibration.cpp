@@ -5,10 +5,12 @@
 #include <body_scan_calib/calibration_rig.h>
 #include <body_scan_calib/capture_folder.h>
 #include <body_scan_calib/pair_calibration_pipeline.h>
+#include <body_scan_calib/sim/calibration_scenes.h>
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
 #include <gtest/gtest.h>
+#include <ros/package.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -156,8 +158,9 @@ TEST(PairCalibration, TheCalibrationFileIsReadByLoadCalibration) {
   EXPECT_EQ(triangulator.triangulate(cv::Mat1f(480, 640, missing + 0.5f), xyz.data(), 3), 0u);
   EXPECT_GT(triangulator.triangulate(cv::Mat1f(480, 640, 128.5f), xyz.data(), 3), 0u);
 
-  // The checked-in calibration of docs/calibration is readable too.
-  const body_scan_driver::PairCalibration checked_in = loadCalibration(CALIB_DOCS_DIR "/pair.yaml");
+  // The checked-in calibration of the repository's docs/calibration is readable too.
+  const body_scan_driver::PairCalibration checked_in =
+      loadCalibration(ros::package::getPath("body_scan_calib") + "/../docs/calibration/pair.yaml");
   EXPECT_EQ(checked_in.projector.stripeCount(), 256);
   EXPECT_NEAR(checked_in.camera.alpha, c.config.camera.alpha, 0.01 * c.config.camera.alpha);
 }

@@ -4,9 +4,11 @@
 #include <body_scan_calib/calibration_rig.h>
 #include <body_scan_calib/cylinder_target.h>
 #include <body_scan_calib/pair_calibration_pipeline.h>
+#include <body_scan_calib/sim/calibration_scenes.h>
 #include <body_scan_calib/world_alignment.h>
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/sim/calibration_cylinder.h>
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <gtest/gtest.h>
@@ -24,7 +26,8 @@ using namespace body_scan_calib;
 namespace {
 
 const std::string kAlignmentConfig = BODY_SCAN_CALIB_CONFIG_DIR "/alignment/";
-const std::string kCylinderScene = BODY_SCAN_DRIVER_CONFIG_DIR "/scenes/calibration_cylinder.yaml";
+const std::string kCylinderScene =
+    body_scan_driver::sim::driverConfigDir() + "/scenes/calibration_cylinder.yaml";
 const char* kRig[] = {"pole_a_pair_1", "pole_a_pair_2", "pole_b_pair_1", "pole_b_pair_2"};
 
 Eigen::Matrix3d randomRotation(std::mt19937& random) {

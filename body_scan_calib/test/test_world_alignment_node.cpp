@@ -2,6 +2,7 @@
 #include <body_scan_calib/world_alignment.h>
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/ros/conversions.h>
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <gtest/gtest.h>
@@ -23,7 +24,8 @@ using namespace body_scan_calib;
 namespace {
 
 const std::string kAlignmentConfig = BODY_SCAN_CALIB_CONFIG_DIR "/alignment/";
-const std::string kCylinderScene = BODY_SCAN_DRIVER_CONFIG_DIR "/scenes/calibration_cylinder.yaml";
+const std::string kCylinderScene =
+    body_scan_driver::sim::driverConfigDir() + "/scenes/calibration_cylinder.yaml";
 
 Eigen::Isometry3d toEigen(const geometry_msgs::TransformStamped& message) {
   const auto& t = message.transform.translation;

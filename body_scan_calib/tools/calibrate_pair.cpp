@@ -6,6 +6,7 @@
 #include <body_scan_calib/capture_folder.h>
 #include <body_scan_calib/pair_calibration_pipeline.h>
 #include <body_scan_calib/projector_plot.h>
+#include <body_scan_calib/sim/calibration_scenes.h>
 #include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/calibration_file.h>
 

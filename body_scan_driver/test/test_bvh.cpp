@@ -1,7 +1,8 @@
-// The BVH reader: hand-computed forward kinematics, Euler order, the CMU walks (skipped when
-// ../shared/data/bvh is absent), malformed files with their line numbers, and the fuzz entry
-// point over its seed corpus.
+// The BVH reader: hand-computed forward kinematics, Euler order, the CMU walks
+// (data/cmu_walks), malformed files with their line numbers, and the fuzz entry point over its
+// seed corpus.
 #include <body_scan_driver/sim/bvh.h>
+#include <body_scan_driver/sim/data_paths.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,11 +18,6 @@ namespace body_scan_driver::sim {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string bvhDataDir() {
-  const char* dir = std::getenv("BODY_SCAN_BVH_DIR");
-  return dir ? dir : BODY_SCAN_BVH_DIR;
-}
 
 std::string readText(const fs::path& path) {
   std::ifstream file(path, std::ios::binary);
@@ -71,10 +67,10 @@ TEST(Bvh, RotationChannelsApplyInFileOrder) {
 }
 
 TEST(Bvh, CmuWalksLoadWithRigidBonesAndWalkAlongZ) {
-  const std::string dir = bvhDataDir();
-  if (!fs::exists(dir + "/07_02.bvh"))
-    GTEST_SKIP() << "CMU walks not found in " << dir
-                 << " (set BODY_SCAN_BVH_DIR to the folder with 07_02.bvh ...)";
+  const std::string dir = cmuWalksDir();
+  ASSERT_TRUE(fs::exists(dir + "/07_02.bvh"))
+      << "CMU walks not found in " << dir
+      << " (body_scan_driver/data/cmu_walks, or BODY_SCAN_BVH_DIR naming a folder with them)";
   for (const char* walk : kCmuWalks) {
     SCOPED_TRACE(walk);
     const BvhMotion motion = loadBvh(dir + "/" + walk + ".bvh");
@@ -171,9 +167,7 @@ TEST(Bvh, FuzzEntryPointAcceptsTheSeedCorpus) {
   for (const auto& entry : fs::directory_iterator(BODY_SCAN_DRIVER_FUZZ_CORPUS))
     seeds.push_back(entry.path());
   ASSERT_GE(seeds.size(), 5u);
-  for (const char* walk : kCmuWalks)
-    if (fs::exists(bvhDataDir() + "/" + walk + ".bvh"))
-      seeds.push_back(bvhDataDir() + "/" + walk + ".bvh");
+  for (const char* walk : kCmuWalks) seeds.push_back(cmuWalksDir() + "/" + walk + ".bvh");
   for (const fs::path& seed : seeds) {
     SCOPED_TRACE(seed.string());
     const std::string text = readText(seed);

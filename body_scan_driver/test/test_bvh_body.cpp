@@ -1,7 +1,8 @@
 // The body driven by motion capture: the joint map, the body posed on BVH frames (same joints,
-// placed in the scanner) and the four gait poses of thesis 5.3 picked in the CMU walks (skipped
-// when ../shared/data/bvh is absent).
+// placed in the scanner) and the four gait poses of thesis 5.3 picked in the CMU walks
+// (data/cmu_walks).
 #include <body_scan_driver/sim/bvh_body.h>
+#include <body_scan_driver/sim/data_paths.h>
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
@@ -13,18 +14,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kMapPath = BODY_SCAN_DRIVER_CONFIG_DIR "/bvh/cmu_joint_map.yaml";
+std::string mapPath() { return driverConfigDir() + "/bvh/cmu_joint_map.yaml"; }
 const char* const kCmuWalks[] = {"07_02", "07_08", "08_03", "08_08", "35_01", "35_02"};
 
-std::string bvhPath(const std::string& walk) {
-  const char* dir = std::getenv("BODY_SCAN_BVH_DIR");
-  return std::string(dir ? dir : BODY_SCAN_BVH_DIR) + "/" + walk + ".bvh";
-}
+std::string bvhPath(const std::string& walk) { return cmuWalksDir() + "/" + walk + ".bvh"; }
 
-#define SKIP_WITHOUT_CMU_WALKS()                              \
-  if (!fs::exists(bvhPath("07_02")))                          \
-  GTEST_SKIP() << "CMU walks not found (" << bvhPath("07_02") \
-               << "); set BODY_SCAN_BVH_DIR to the folder with 07_02.bvh ..."
+#define ASSERT_CMU_WALKS()                           \
+  ASSERT_TRUE(fs::exists(bvhPath("07_02")))          \
+      << "CMU walks not found (" << bvhPath("07_02") \
+      << "): body_scan_driver/data/cmu_walks, or BODY_SCAN_BVH_DIR naming a folder with them"
 
 std::map<std::string, Eigen::Vector3d> skeletonOf(const HumanBodySpec& spec) {
   std::map<std::string, Eigen::Vector3d> joints;
@@ -89,7 +87,7 @@ TEST(PoseBodyOnSkeleton, RebuildsTheAnglePosedBodyFromItsOwnSkeleton) {
 }
 
 TEST(BvhJointMap, CmuMapLoadsWithYUpAndZForward) {
-  const BvhJointMap map = loadBvhJointMap(kMapPath);
+  const BvhJointMap map = loadBvhJointMap(mapPath());
   EXPECT_EQ(map.scheme, "cmu");
   EXPECT_DOUBLE_EQ(map.unit_scale, 0.056444);
   // BVH +z (forward) -> world +x, BVH +x (the subject's left) -> world +y, BVH +y -> world +z.
@@ -114,19 +112,19 @@ TEST(BvhJointMap, BadMapsNameTheProblem) {
     }
     return std::string("accepted");
   };
-  const std::string good = YAML::Dump(YAML::LoadFile(kMapPath));
+  const std::string good = YAML::Dump(YAML::LoadFile(mapPath()));
   EXPECT_EQ(error(good), "accepted");
   EXPECT_NE(error(good + "\nunit: 1\n").find("unknown key 'unit'"), std::string::npos);
-  YAML::Node no_knee = YAML::LoadFile(kMapPath);
+  YAML::Node no_knee = YAML::LoadFile(mapPath());
   no_knee["joints"].remove("left_knee");
   EXPECT_NE(error(YAML::Dump(no_knee)).find("needs 'left_knee'"), std::string::npos);
-  YAML::Node bad_axis = YAML::LoadFile(kMapPath);
+  YAML::Node bad_axis = YAML::LoadFile(mapPath());
   bad_axis["up_axis"] = "up";
   EXPECT_NE(error(YAML::Dump(bad_axis)).find("'up_axis' must be one of"), std::string::npos);
-  YAML::Node same_axes = YAML::LoadFile(kMapPath);
+  YAML::Node same_axes = YAML::LoadFile(mapPath());
   same_axes["forward_axis"] = "-y";
   EXPECT_NE(error(YAML::Dump(same_axes)).find("must differ"), std::string::npos);
-  YAML::Node bad_scale = YAML::LoadFile(kMapPath);
+  YAML::Node bad_scale = YAML::LoadFile(mapPath());
   bad_scale["unit_scale_m"] = -1;
   EXPECT_NE(error(YAML::Dump(bad_scale)).find("must be > 0"), std::string::npos);
   EXPECT_THROW(loadBvhJointMap("/nonexistent/map.yaml"), std::runtime_error);
@@ -137,7 +135,7 @@ TEST(BvhSubject, MotionWithoutAMappedJointIsRejected) {
       "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\n"
       "Frame Time: 0.1\n0\n");
   try {
-    BvhSubject(motion, loadBvhJointMap(kMapPath), "tiny");
+    BvhSubject(motion, loadBvhJointMap(mapPath()), "tiny");
     ADD_FAILURE() << "accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("which the motion does not have"), std::string::npos)
@@ -148,8 +146,8 @@ TEST(BvhSubject, MotionWithoutAMappedJointIsRejected) {
 // The posed body's skeleton is the BVH skeleton moved rigidly into the scanner: every distance
 // between joints is kept; the pelvis stands over the origin, facing +x, feet on the floor.
 TEST(BvhSubject, BodyStandsOnTheBvhJointsInTheScanner) {
-  SKIP_WITHOUT_CMU_WALKS();
-  const BvhJointMap map = loadBvhJointMap(kMapPath);
+  ASSERT_CMU_WALKS();
+  const BvhJointMap map = loadBvhJointMap(mapPath());
   for (const char* walk : {"07_02", "35_01"}) {
     const BvhSubject subject(loadBvh(bvhPath(walk)), map, walk);
     for (int frame : {0, 77, 150}) {
@@ -218,8 +216,8 @@ TEST(BvhSubject, BodyStandsOnTheBvhJointsInTheScanner) {
 // Thesis 5.3: pose 1 right leg in front with the longest stride, pose 2 right leg vertical and
 // the left leg behind; 3 and 4 mirrored. Checked on the placed bodies of every walk.
 TEST(GaitPoses, PickedPosesMatchTheThesisDefinitions) {
-  SKIP_WITHOUT_CMU_WALKS();
-  const BvhJointMap map = loadBvhJointMap(kMapPath);
+  ASSERT_CMU_WALKS();
+  const BvhJointMap map = loadBvhJointMap(mapPath());
   for (const char* walk : kCmuWalks) {
     SCOPED_TRACE(walk);
     const BvhSubject subject(loadBvh(bvhPath(walk)), map, walk);
@@ -253,13 +251,13 @@ TEST(GaitPoses, PickedPosesMatchTheThesisDefinitions) {
 
 // A scene file places a BVH frame like any human: turned by heading_deg, moved to position.
 TEST(BvhHumanScene, SceneObjectPlacesTheChosenFrame) {
-  SKIP_WITHOUT_CMU_WALKS();
+  ASSERT_CMU_WALKS();
   const std::string object =
       "objects:\n  - type: bvh_human\n    name: w\n    bvh: " + bvhPath("07_02") +
-      "\n    joint_map: " + kMapPath + "\n";
+      "\n    joint_map: " + mapPath() + "\n";
   const Scene scene =
       parseScene(object + "    gait_pose: 3\n    position: [1, 0.5, 0]\n    heading_deg: 90\n");
-  const BvhSubject subject(loadBvh(bvhPath("07_02")), loadBvhJointMap(kMapPath), "w");
+  const BvhSubject subject(loadBvh(bvhPath("07_02")), loadBvhJointMap(mapPath()), "w");
   const int frame = pickGaitPoses(subject).frame[2];
   const auto placed = skeletonOf(subject.body(frame));
   ASSERT_FALSE(scene.skeleton().empty());
@@ -270,11 +268,8 @@ TEST(BvhHumanScene, SceneObjectPlacesTheChosenFrame) {
         << joint.name;
   }
   EXPECT_EQ(scene.surfaces().front()->name.rfind("w/", 0), 0u);
-  // The shipped scene file finds the walk next to the repository (its relative path).
-  if (fs::exists(BODY_SCAN_BVH_DIR "/07_02.bvh")) {
-    EXPECT_GT(loadScene(BODY_SCAN_DRIVER_CONFIG_DIR "/scenes/bvh_walker.yaml").skeleton().size(),
-              10u);
-  }
+  // The shipped scene file finds the package's walk (its relative path).
+  EXPECT_GT(loadScene(driverConfigDir() + "/scenes/bvh_walker.yaml").skeleton().size(), 10u);
   auto error = [&](const std::string& keys) {
     try {
       parseScene(object + keys);
@@ -292,10 +287,10 @@ TEST(BvhHumanScene, SceneObjectPlacesTheChosenFrame) {
 }
 
 TEST(GaitPoses, ShortClipIsAClearError) {
-  SKIP_WITHOUT_CMU_WALKS();
+  ASSERT_CMU_WALKS();
   BvhMotion motion = loadBvh(bvhPath("07_02"));
   motion.frames.resize(40);  // a third of a second: no complete set
-  const BvhSubject subject(motion, loadBvhJointMap(kMapPath), "short");
+  const BvhSubject subject(motion, loadBvhJointMap(mapPath()), "short");
   try {
     pickGaitPoses(subject);
     ADD_FAILURE() << "accepted";

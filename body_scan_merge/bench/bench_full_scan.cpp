@@ -12,6 +12,7 @@
 //                                 scan): its ~100 MB of buffers are touched for the first time
 // scripts/bench_report.py prints every case's median over FullScan/ours.
 #include <benchmark/benchmark.h>
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
@@ -38,10 +39,10 @@ RigScan& rigScan() {
   static RigScan scan = [] {
     cv::setNumThreads(2);
     RigScan s;
-    const body_scan_driver::sim::Rig rig =
-        body_scan_driver::sim::loadRig(BODY_SCAN_DRIVER_CONFIG_DIR "/rigs/thesis_rig.yaml");
+    const body_scan_driver::sim::Rig rig = body_scan_driver::sim::loadRig(
+        body_scan_driver::sim::driverConfigDir() + "/rigs/thesis_rig.yaml");
     auto scene = std::make_shared<body_scan_driver::sim::Scene>(body_scan_driver::sim::loadScene(
-        BODY_SCAN_DRIVER_CONFIG_DIR "/scenes/standing_person.yaml"));
+        body_scan_driver::sim::driverConfigDir() + "/scenes/standing_person.yaml"));
     for (const body_scan_driver::sim::VirtualPairConfig& config : rig.pairs) {
       const body_scan_driver::sim::VirtualPair pair(config, scene);
       s.frames.push_back(pair.render(1).frames);

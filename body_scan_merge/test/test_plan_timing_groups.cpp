@@ -2,6 +2,7 @@
 // calibration files, takes each pose from the file's world_alignment section when there is one
 // (else from the rig file) and reports the library's groups and conflicts.
 #include <body_scan_driver/calibration_file.h>
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_merge/simulated_scan.h>
 #include <body_scan_merge/timing_groups.h>
@@ -18,7 +19,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kRig = std::string(BODY_SCAN_DRIVER_CONFIG_DIR) + "/rigs/thesis_rig.yaml";
+const std::string kRig = body_scan_driver::sim::driverConfigDir() + "/rigs/thesis_rig.yaml";
 
 std::string fileStem(std::string id) {
   std::replace(id.begin(), id.end(), '/', '_');

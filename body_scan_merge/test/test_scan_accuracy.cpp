@@ -1,4 +1,5 @@
 // The accuracy evaluator against clouds of known error and coverage, made from the true surface.
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_merge/eval/scan_accuracy.h>
 #include <gtest/gtest.h>
 
@@ -9,7 +10,7 @@ using namespace body_scan_merge::eval;
 
 namespace {
 
-const std::string kDriverConfig = BODY_SCAN_DRIVER_CONFIG_DIR;
+const std::string kDriverConfig = body_scan_driver::sim::driverConfigDir();
 
 // A cloud from the true samples, each moved `offset` along its normal (+ Gaussian noise),
 // keeping those keep() accepts.

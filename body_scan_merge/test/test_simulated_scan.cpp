@@ -2,6 +2,7 @@
 // group, decoded, triangulated with the factory calibration, merged as the Merge nodelet does)
 // against the
 // true surface (eval::evaluateScan): issue 4's targets, and what interference does.
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_merge/eval/scan_accuracy.h>
 #include <body_scan_merge/simulated_scan.h>
@@ -11,7 +12,7 @@ using namespace body_scan_merge;
 using namespace body_scan_driver;
 
 namespace {
-const std::string kDriverConfig = BODY_SCAN_DRIVER_CONFIG_DIR;
+const std::string kDriverConfig = body_scan_driver::sim::driverConfigDir();
 
 eval::ScanAccuracy evaluate(const SimulatedScan& scan, const body_scan_driver::sim::Scene& scene) {
   return eval::evaluateScan(scan.cloud.xyzrgb, scene);

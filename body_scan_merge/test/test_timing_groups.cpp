@@ -1,6 +1,7 @@
 // Timing groups (thesis 4.3, Fig 4.7): conflicts from the calibrated geometry, a minimum
 // colouring, and - measured with the simulator - that the computed groups do not corrupt any
 // pair's decoding while all 12 pairs at once do.
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/decoding_errors.h>
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_driver/stripe_decoder.h>
@@ -16,7 +17,7 @@ using namespace body_scan_driver;
 
 namespace {
 
-const std::string kDriverConfig = BODY_SCAN_DRIVER_CONFIG_DIR;
+const std::string kDriverConfig = body_scan_driver::sim::driverConfigDir();
 
 std::vector<PairGeometry> geometryOf(
     const std::vector<body_scan_driver::sim::VirtualPairConfig>& configs) {

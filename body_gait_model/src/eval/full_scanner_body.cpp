@@ -1,5 +1,6 @@
 // Whole-body clouds from the full scanner simulation (tests and evaluation only).
 #include <body_gait_model/eval/full_scanner_body.h>
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_driver/sim/scene.h>
 #include <body_scan_merge/simulated_scan.h>
@@ -43,7 +44,7 @@ double fullScannerHeading(int index) { return 0.4 * (index % 5) - 0.8; }
 SampledBody scanBodyWithFullScanner(const sim::HumanBodySpec& spec,
                                     const FullScannerOptions& options) {
   const PlannedRig& planned =
-      plannedRig(options.rig_file.empty() ? BODY_SCAN_DRIVER_CONFIG_DIR "/rigs/thesis_rig.yaml"
+      plannedRig(options.rig_file.empty() ? sim::driverConfigDir() + "/rigs/thesis_rig.yaml"
                                           : options.rig_file);
   sim::Rig rig = planned.rig;
   body_scan_merge::TimingGroupList groups = planned.groups;

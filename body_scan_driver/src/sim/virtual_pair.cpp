@@ -51,17 +51,6 @@ SweptLaserProjector::Plane SweptLaserProjector::planeAtAngle(double angle) const
   return plane;
 }
 
-Eigen::Isometry3d cameraPose(const Eigen::Vector3d& position, double yaw, double pitch) {
-  const Eigen::Vector3d forward(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
-                                -std::sin(pitch));
-  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
-  const Eigen::Vector3d down = forward.cross(right);
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() << right, down, forward;  // columns: optical x, y, z in the world
-  pose.translation() = position;
-  return pose;
-}
-
 VirtualPair::VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> scene)
     : VirtualPair(std::move(config), std::move(scene), /*with_camera=*/true) {}
 

@@ -7,7 +7,7 @@
 // missing after ~plan_wait gets a group of its own (it conflicts with nobody else's slot) and is
 // named.
 #include <body_scan_driver/calibration_file.h>
-#include <body_scan_driver/sim/rig.h>
+#include <body_scan_driver/rig_layout.h>
 #include <body_scan_merge/timing_groups.h>
 #include <body_scan_msgs/Capture.h>
 #include <body_scan_msgs/Scan.h>
@@ -102,7 +102,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     if (calibration.alignment) return calibration.alignment->world_from_camera;
     if (!rig_file_.empty() && use_rig) {
       try {
-        if (!rig_) rig_ = body_scan_driver::sim::loadRig(rig_file_);
+        if (!rig_) rig_ = body_scan_driver::loadRigLayout(rig_file_);
         return rig_->pair(id).world_from_camera;
       } catch (const std::exception& e) {
         why += "; ~rig_file: " + std::string(e.what());
@@ -265,7 +265,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
   double group_seconds_ = 0.5, pair_timeout_ = 10.0, plan_wait_ = 30.0;
   bool all_at_once_ = false;
   std::string rig_file_;
-  std::optional<body_scan_driver::sim::Rig> rig_;
+  std::optional<body_scan_driver::RigLayout> rig_;
   InterferenceProxy proxy_;
   TimingPlan plan_;
   uint32_t next_scan_id_ = 0;

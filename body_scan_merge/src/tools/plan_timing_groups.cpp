@@ -3,7 +3,7 @@
 // the rig file's pose), prints the groups and the conflicts and writes them as a YAML report.
 #include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/calibration_file.h>
-#include <body_scan_driver/sim/rig.h>
+#include <body_scan_driver/rig_layout.h>
 #include <body_scan_merge/timing_groups.h>
 #include <yaml-cpp/yaml.h>
 
@@ -80,10 +80,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const body_scan_driver::sim::Rig rig = body_scan_driver::sim::loadRig(rig_path);
+    const body_scan_driver::RigLayout rig = body_scan_driver::loadRigLayout(rig_path);
     std::vector<PairGeometry> pairs;
     int aligned = 0;
-    for (const body_scan_driver::sim::VirtualPairConfig& config : rig.pairs) {
+    for (const body_scan_driver::RigPairLayout& config : rig.pairs) {
       PairGeometry pair;
       pair.pair_id = config.pair_id;
       pair.calibration = body_scan_driver::loadCalibration(

@@ -12,7 +12,7 @@
 namespace body_gait_model::eval {
 
 struct FullScannerOptions {
-  std::string rig_file;                    // empty: the thesis rig of body_scan_driver
+  std::string rig_file;                    // empty: body_scan_driver's thesis rig (rospack)
   std::vector<std::string> missing_pairs;  // pairs that deliver nothing (e.g. "pole_c/pair_2")
   double floor_albedo = 0.3;               // the floor the subject stands on (cropped away)
 };

@@ -1,6 +1,7 @@
-// A whole rig of virtual pairs (thesis ch. 4, DESIGN.md section 1): poles standing around the
-// subject, each holding pairs stacked head to toe. Read from a rig file by the simulator, the
-// ScanCoordinator and the tools alike (config/rigs/thesis_rig.yaml documents the format).
+// A whole rig of virtual pairs (thesis ch. 4, DESIGN.md section 1): the rig file's layout
+// (rig_layout.h: poles, pair ids, poses) with each pair's simulator model (pair_defaults, seed).
+// Read by the simulator, the simulated scans and the evaluation (config/rigs/thesis_rig.yaml
+// documents the format); the product reads the layout alone.
 #pragma once
 
 #include <body_scan_driver/sim/virtual_pair.h>

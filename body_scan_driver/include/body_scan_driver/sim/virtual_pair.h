@@ -4,6 +4,7 @@
 
 #include <body_scan_driver/gray_code.h>
 #include <body_scan_driver/pair_model.h>
+#include <body_scan_driver/rig_layout.h>
 #include <body_scan_driver/sim/scene.h>
 
 #include <cstdint>
@@ -63,9 +64,8 @@ struct VirtualPairConfig {
   Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();
 };
 
-// Camera pose from a position and the heading of the optical axis (yaw about world z, 0 = +x;
-// pitch > 0 looks down); image x stays horizontal.
-Eigen::Isometry3d cameraPose(const Eigen::Vector3d& position, double yaw, double pitch);
+// Camera pose from a position and a heading: the rig layout's (rig_layout.h), for pair files.
+using body_scan_driver::cameraPose;
 
 // Reads a pair file (see config/pairs/default_pair.yaml). Throws std::runtime_error naming
 // the file and the bad key.

@@ -1,0 +1,35 @@
+// Where the simulator's data are at run time, for tests and evaluation: body_scan_driver's
+// folder as rospack finds it (source or install space), never a source path compiled in.
+// Header-only, so that the simulator library stays free of ROS: whoever includes it links roslib.
+#pragma once
+
+#include <ros/package.h>
+
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+namespace body_scan_driver::sim {
+
+// body_scan_driver's package folder (config/, data/). Throws std::runtime_error when rospack
+// cannot find it.
+inline std::string driverPackageDir() {
+  const std::string dir = ros::package::getPath("body_scan_driver");
+  if (dir.empty())
+    throw std::runtime_error(
+        "rospack cannot find body_scan_driver: source the workspace's setup.bash "
+        "(ROS_PACKAGE_PATH)");
+  return dir;
+}
+
+// Pair files, scenes, rigs and the BVH joint map.
+inline std::string driverConfigDir() { return driverPackageDir() + "/config"; }
+
+// The CMU walks (data/cmu_walks/README.md: license, acknowledgement). BODY_SCAN_BVH_DIR, when
+// set, names another folder with the same file names.
+inline std::string cmuWalksDir() {
+  if (const char* dir = std::getenv("BODY_SCAN_BVH_DIR")) return dir;
+  return driverPackageDir() + "/data/cmu_walks";
+}
+
+}  // namespace body_scan_driver::sim
