@@ -157,8 +157,8 @@ format:
 
 # fuzz: the BVH reader (body_scan_driver/src/sim/bvh.cpp) under libFuzzer with AddressSanitizer
 # and UBSan, outside catkin (clang only). The corpus grows in build/fuzz/corpus (seeded from
-# body_scan_driver/fuzz/corpus and ../shared/data/bvh when present); crashes are written to
-# build/fuzz/crash-*. test_bvh runs the same entry point over the seeds in CI.
+# body_scan_driver/fuzz/corpus and the CMU walks of body_scan_driver/data/cmu_walks); crashes
+# are written to build/fuzz/crash-*. test_bvh runs the same entry point over the seeds in CI.
 FUZZ_SECONDS ?= 60
 FUZZ_CXX ?= clang++
 fuzz:
@@ -168,7 +168,7 @@ fuzz:
 	  body_scan_driver/fuzz/fuzz_bvh.cpp body_scan_driver/src/sim/bvh.cpp \
 	  -o $(BUILD_DIR)/fuzz/fuzz_bvh
 	cp -n body_scan_driver/fuzz/corpus/* $(BUILD_DIR)/fuzz/corpus/
-	-cp -n ../shared/data/bvh/*.bvh $(BUILD_DIR)/fuzz/corpus/ 2>/dev/null
+	cp -n body_scan_driver/data/cmu_walks/*.bvh $(BUILD_DIR)/fuzz/corpus/
 	cd $(BUILD_DIR)/fuzz && ./fuzz_bvh -max_total_time=$(FUZZ_SECONDS) -max_len=200000 \
 	  -rss_limit_mb=2048 -print_final_stats=1 corpus
 

@@ -25,14 +25,15 @@ const VirtualPairConfig& Rig::pair(const std::string& pair_id) const {
 
 Rig loadRig(const std::string& path) {
   // The layout (ids, poses) is the product's reader's; the simulator adds pair_defaults and seeds.
-  const RigLayout layout = loadRigLayout(path);
   const YAML::Node root = loadYamlFile(path, "rig");
+  VirtualPairConfig defaults;
+  if (root.IsMap())
+    if (const YAML::Node pair_defaults = root["pair_defaults"])
+      applyPairKeys(pair_defaults, path + ": pair_defaults", defaults, /*allow_pose=*/false);
+  const RigLayout layout = loadRigLayout(path);
   Rig rig;
   rig.name = layout.name;
   rig.poles = layout.poles;
-  VirtualPairConfig defaults;
-  if (const YAML::Node pair_defaults = root["pair_defaults"])
-    applyPairKeys(pair_defaults, path + ": pair_defaults", defaults, /*allow_pose=*/false);
   size_t next = 0;  // loadRigLayout keeps the file's order of pairs
   for (const YAML::Node& pole : root["poles"]) {
     for (const YAML::Node& pair : pole["pairs"]) {
