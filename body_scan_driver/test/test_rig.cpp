@@ -1,4 +1,6 @@
-// The rig file (sim/rig.h) and interference between the pairs of a rig (thesis 4.3, Fig 4.7).
+// The rig file (rig_layout.h, sim/rig.h) and interference between the pairs of a rig (thesis
+// 4.3, Fig 4.7).
+#include <body_scan_driver/rig_layout.h>
 #include <body_scan_driver/sim/decoding_errors.h>
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_driver/stripe_decoder.h>
@@ -32,6 +34,30 @@ std::string loadError(const std::string& text) {
 }
 
 }  // namespace
+
+// The product's reader (no simulator) sees the simulator's pairs in the same order and poses,
+// and accepts the simulator's and the hardware's keys it leaves to their readers.
+TEST(Rig, TheLayoutIsTheSimulatorRigsIdsAndPoses) {
+  const RigLayout layout = loadRigLayout(kConfigDir + "/rigs/thesis_rig.yaml");
+  const sim::Rig rig = sim::loadRig(kConfigDir + "/rigs/thesis_rig.yaml");
+  EXPECT_EQ(layout.name, rig.name);
+  EXPECT_EQ(layout.poles, rig.poles);
+  ASSERT_EQ(layout.pairIds(), rig.pairIds());
+  for (size_t i = 0; i < layout.pairs.size(); ++i)
+    EXPECT_TRUE(layout.pairs[i].world_from_camera.isApprox(rig.pairs[i].world_from_camera, 0))
+        << layout.pairs[i].pair_id;
+  const RigLayout with_device = loadRigLayout(
+      writeRig("pair_defaults: {sensor: {noise_sigma: 1}}\npoles: [{name: a, position: [1, 0], "
+               "pairs: [{name: p, height: 1.2, seed: 7, device: {camera_serial: X}}]}]"));
+  EXPECT_EQ(with_device.pairIds(), std::vector<std::string>{"a/p"});
+  try {
+    loadRigLayout(writeRig("poles: [{name: a, position: [1, 0], pairs: [{name: p, hieght: 1}]}]"));
+    ADD_FAILURE() << "a typo was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("'hieght'"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(layout.pair("pole_z/pair_1"), std::invalid_argument);
+}
 
 TEST(Rig, TheDefaultRigHasThreePolesOfFourPairsLookingAtTheSubject) {
   const sim::Rig rig = sim::loadRig(kConfigDir + "/rigs/thesis_rig.yaml");
