@@ -54,9 +54,9 @@ std::vector<cv::Mat> loadOpenCvLeftImages() {
 // The must-show: fx, fy, cx, cy within 0.5% of OpenCV's and RMS within 5%.
 TEST(CameraCalibrationImages, OpenCvSampleImagesMatchCvCalibrateCamera) {
   const std::vector<cv::Mat> images = loadOpenCvLeftImages();
-  if (images.empty())
-    GTEST_SKIP() << "OpenCV sample images left01..left14.jpg not found in " << kOpenCvSampleDir
-                 << " (install the Debian package opencv-doc, e.g. `make deps`)";
+  ASSERT_FALSE(images.empty()) << "OpenCV sample images left01..left14.jpg not found in "
+                               << kOpenCvSampleDir
+                               << " (install the Debian package opencv-doc, e.g. `make deps`)";
   const Checkerboard board{9, 6, 0.025};
   std::vector<std::vector<Eigen::Vector2d>> views;
   for (const cv::Mat& image : images) {

@@ -121,9 +121,9 @@ CommandResult run(const std::string& arguments) {
 
 TEST(CalibrateCameraTool, CalibratesOpenCvSamplesAndWritesAReadableFile) {
   const fs::path samples = "/usr/share/doc/opencv-doc/examples/data";
-  if (!fs::exists(samples / "left01.jpg"))
-    GTEST_SKIP() << "OpenCV sample images (plain .jpg) not in " << samples
-                 << "; install opencv-doc";
+  ASSERT_TRUE(fs::exists(samples / "left01.jpg"))
+      << "OpenCV sample images (plain .jpg) not in " << samples
+      << " (install the Debian package opencv-doc, e.g. `make deps`)";
   const fs::path folder = scratchFolder("tool");
   fs::create_directories(folder / "images");
   for (int i = 1; i <= 14; ++i) {
