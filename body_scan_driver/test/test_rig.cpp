@@ -3,6 +3,7 @@
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -17,7 +18,8 @@ namespace {
 const std::string kConfigDir = BODY_SCAN_DRIVER_CONFIG_DIR;
 
 std::string writeRig(const std::string& text) {
-  const std::string path = std::filesystem::temp_directory_path() / "body_scan_test_rig.yaml";
+  const std::string path = std::filesystem::temp_directory_path() /
+                           ("body_scan_test_rig_" + std::to_string(::getpid()) + ".yaml");
   std::ofstream(path) << text;
   return path;
 }
