@@ -99,6 +99,19 @@ TEST(Rig, PairDefaultsApplyToEveryPair) {
   EXPECT_NEAR(rig.pairs[0].world_from_camera.translation().z(), 1.2, 1e-12);
 }
 
+// A pair's device map names real hardware (the usb backend's); the simulator reads past it.
+TEST(Rig, APairsDeviceMapIsAcceptedAndLeavesTheSimulatedPairAsItIs) {
+  const std::string pair = "{name: p, height: 1.2, seed: 7";
+  const sim::Rig plain =
+      sim::loadRig(writeRig("poles: [{name: a, position: [1, 0], pairs: [" + pair + "}]}]"));
+  const sim::Rig with_device =
+      sim::loadRig(writeRig("poles: [{name: a, position: [1, 0], pairs: [" + pair +
+                            ", device: {camera_id: \"046d:0825\", camera_serial: A1}}]}]"));
+  ASSERT_EQ(with_device.pairs.size(), 1u);
+  EXPECT_TRUE(with_device.pairs[0].world_from_camera.isApprox(plain.pairs[0].world_from_camera));
+  EXPECT_EQ(with_device.pairs[0].sensor.seed, plain.pairs[0].sensor.seed);
+}
+
 // All 12 pairs projecting at once: other pairs' stripes corrupt a pair's decoding wherever
 // their light falls on what it sees; alone, it decodes cleanly. A pair whose view the other's
 // light cannot reach is unaffected (frames bit-identical).
