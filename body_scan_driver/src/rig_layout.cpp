@@ -87,7 +87,7 @@ RigLayout loadRigLayout(const std::string& path) {
     for (const YAML::Node& pair : pairs) {
       const std::string pair_name = required<std::string>(pair, "name", pole_where + ": a pair");
       const std::string pair_where = pole_where + ", pair " + pair_name;
-      // seed: the simulator's sensor noise; device: the real pair's ids (the usb backend).
+      // seed: the simulator's sensor noise; device: the real pair's ids (hw/rig_device_ids.h).
       requireKnownKeys(pair, {"name", "height", "pitch_deg", "yaw_offset_deg", "seed", "device"},
                        pair_where);
       RigPairLayout layout;
