@@ -9,7 +9,7 @@
 #include <body_scan_calib/calibration_capture.h>
 #include <body_scan_calib/calibration_rig.h>
 #include <body_scan_calib/capture_folder.h>
-#include <body_scan_driver/sim/virtual_pair.h>
+#include <body_scan_driver/rig_layout.h>
 #include <body_scan_msgs/Capture.h>
 #include <body_scan_msgs/PatternSet.h>
 #include <body_scan_msgs/SetScene.h>
@@ -190,11 +190,8 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
         "~calibrate needs ~folder, ~calibration_file, ~report_file and ~plot_file");
 
   Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();
-  if (settings.targets == "sim")
-    world_from_camera = (settings.pair_file.empty()
-                             ? body_scan_driver::sim::VirtualPairConfig{}
-                             : body_scan_driver::sim::loadVirtualPairConfig(settings.pair_file))
-                            .world_from_camera;
+  if (settings.targets == "sim" && !settings.pair_file.empty())
+    world_from_camera = body_scan_driver::loadPairFilePose(settings.pair_file);
   const std::vector<Placement> plan = placements(settings, world_from_camera);
 
   PatternSetWaiter waiter;

@@ -6,6 +6,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "pair_pose_yaml.h"
+
 namespace body_scan_driver {
 namespace {
 
@@ -106,6 +108,32 @@ RigLayout loadRigLayout(const std::string& path) {
     }
   }
   return rig;
+}
+
+Eigen::Isometry3d pairPoseFromYaml(const YAML::Node& pose, const std::string& where) {
+  if (!pose) return Eigen::Isometry3d::Identity();
+  requireKnownKeys(pose, {"position", "yaw_deg", "pitch_deg"}, where);
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  if (pose["position"]) {
+    const auto xyz = required<std::vector<double>>(pose, "position", where);
+    if (xyz.size() != 3) throw std::runtime_error(where + ": 'position' must be [x, y, z]");
+    position = {xyz[0], xyz[1], xyz[2]};
+  }
+  const double yaw_deg = optionalOr<double>(pose, "yaw_deg", 0.0, where);
+  const double pitch_deg = optionalOr<double>(pose, "pitch_deg", 0.0, where);
+  return cameraPose(position, yaw_deg * kDegree, pitch_deg * kDegree);
+}
+
+Eigen::Isometry3d loadPairFilePose(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error("cannot read pair file '" + path + "': " + e.what() +
+                             " (check the path and the YAML syntax)");
+  }
+  if (!root.IsMap()) throw std::runtime_error(path + " must be a map of key: value");
+  return pairPoseFromYaml(root["pose"], path + ": pose");
 }
 
 Eigen::Isometry3d cameraPose(const Eigen::Vector3d& position, double yaw, double pitch) {

@@ -61,6 +61,23 @@ TEST(Rig, TheLayoutIsTheSimulatorRigsIdsAndPoses) {
   EXPECT_THROW(layout.pair("pole_z/pair_1"), std::invalid_argument);
 }
 
+// A pair file's pose without the simulator: the pose the virtual pair is placed with, bit for bit.
+TEST(Rig, PairFilePoseIsTheVirtualPairsPose) {
+  const std::string shipped = kConfigDir + "/pairs/default_pair.yaml";
+  EXPECT_TRUE(
+      loadPairFilePose(shipped).isApprox(sim::loadVirtualPairConfig(shipped).world_from_camera, 0));
+  const std::string posed = writeRig("pair_id: a/p\npose: {position: [1, 2, 1.5], yaw_deg: 90}\n");
+  EXPECT_TRUE(
+      loadPairFilePose(posed).isApprox(sim::loadVirtualPairConfig(posed).world_from_camera, 0));
+  EXPECT_TRUE(loadPairFilePose(writeRig("pair_id: a/p\n")).isApprox(Eigen::Isometry3d::Identity()));
+  try {
+    loadPairFilePose(writeRig("pose: {position: [1, 2, 1.5], yaw: 90}\n"));
+    ADD_FAILURE() << "a typo was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("'yaw'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Rig, TheDefaultRigHasThreePolesOfFourPairsLookingAtTheSubject) {
   const sim::Rig rig = sim::loadRig(kConfigDir + "/rigs/thesis_rig.yaml");
   ASSERT_EQ(rig.pairs.size(), 12u);

@@ -2,7 +2,7 @@
 // each holding pairs stacked head to toe, every pair with its id and nominal pose in the world.
 // Read from a rig file (config/rigs/thesis_rig.yaml documents the format) by the product (the
 // ScanCoordinator, plan_timing_groups) without the simulator; the simulator's loadRig
-// (sim/rig.h) adds the virtual pairs' models to the same layout.
+// (sim/rig.h) adds the virtual pairs' models to the same layout. Also the pose of a pair file.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -30,6 +30,12 @@ struct RigLayout {
 // simulator (pair_defaults, a pair's seed) and of the hardware (a pair's device) are accepted
 // and left to their readers.
 RigLayout loadRigLayout(const std::string& path);
+
+// The world pose of a pair file's pair (its `pose:` map: position, yaw_deg, pitch_deg;
+// config/pairs/default_pair.yaml), identity without one: where the simulator places it. The
+// other keys are the simulator's (sim::loadVirtualPairConfig checks them). Throws
+// std::runtime_error naming the file and the bad key.
+Eigen::Isometry3d loadPairFilePose(const std::string& path);
 
 // Camera pose from a position and the heading of the optical axis (yaw about world z, 0 = +x;
 // pitch > 0 looks down); image x stays horizontal.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "../pair_pose_yaml.h"
 #include "virtual_pair_keys.h"
 #include "yaml_file.h"
 
@@ -42,7 +43,6 @@ void applyPairKeys(const YAML::Node& root, const std::string& path, VirtualPairC
   requireKnownKeys(root["camera"],
                    {"width", "height", "alpha", "beta", "gamma", "u0", "v0", "k1", "k2"},
                    path + ": camera");
-  requireKnownKeys(root["pose"], {"position", "yaw_deg", "pitch_deg"}, path + ": pose");
   requireKnownKeys(root["pattern"], {"bits", "inverse_frames"}, path + ": pattern");
   requireKnownKeys(root["sensor"],
                    {"noise_sigma", "blur_sigma", "ambient", "projector_level", "seed"},
@@ -70,14 +70,8 @@ void applyPairKeys(const YAML::Node& root, const std::string& path, VirtualPairC
   if (c.width <= 0 || c.height <= 0 || c.alpha <= 0 || c.beta <= 0)
     throw std::runtime_error(camera_where + ": width, height, alpha and beta must be > 0");
 
-  if (const YAML::Node pose = root["pose"]) {
-    Eigen::Vector3d position = Eigen::Vector3d::Zero();
-    double yaw_deg = 0, pitch_deg = 0;
-    optionalVector(pose, "position", position, path + ": pose");
-    optional(pose, "yaw_deg", yaw_deg, path + ": pose");
-    optional(pose, "pitch_deg", pitch_deg, path + ": pose");
-    config.world_from_camera = cameraPose(position, yaw_deg * kDegree, pitch_deg * kDegree);
-  }
+  if (const YAML::Node pose = root["pose"])
+    config.world_from_camera = pairPoseFromYaml(pose, path + ": pose");
 
   const YAML::Node pattern = root["pattern"];
   optional(pattern, "bits", config.bits, path + ": pattern");
