@@ -28,38 +28,24 @@ JOBS      ?= 2
 BENCH_ARGS ?=
 CMAKE_BUILD_TYPE ?= Release
 
-# Debian packages the whole suite needs to build, test, run the demo and the benchmarks:
-#   catkin ... ros-core, rosbash, ros-message-generation: catkin, roscpp, message generation,
-#       nodelets, pluginlib, rostest/roslaunch (the test harness) and rosrun/roscd
-#   rviz: the demo's visualisation (launch/, rviz/)
-#   libcv-bridge-dev ... python3-rosbag: image, tf2 and bag APIs used by the nodes and demo;
-#       python3-sensor-msgs, python3-visualization-msgs: the scan report marker (rviz) and the
-#       record/replay rostest, both in Python;
-#       libcamera-calibration-parsers-dev: the test that ROS reads our calibration files
-#   libopencv-dev, libopencv-contrib-dev: OpenCV (contrib = structured_light, the reference
-#       decoder of the benchmarks); opencv-doc: its sample images
-#   libeigen3-dev, libyaml-cpp-dev: maths and calibration files; libceres-dev: the
-#       maximum-likelihood refinements of calibration (body_scan_calib)
-#   libusb-1.0-0-dev, libuvc-dev, libx11-dev: the hardware backend (USB enumeration and
-#       hot-plug, UVC cameras, the projector's full-screen pattern window);
-#       libdiagnostic-updater-dev, libdynamic-reconfigure-config-init-mutex-dev,
-#       python3-dynamic-reconfigure, python3-diagnostic-msgs: device health on /diagnostics
-#       (and `rostopic echo /diagnostics`), run-time camera settings
-#   libpcl-dev: the Merge nodelet's voxel grid and statistical outlier removal (PCL common and
-#       filters only; Debian ships PCL's headers in this one package)
-#   libgtest-dev, libbenchmark-dev: unit tests (catkin_add_gtest) and Google Benchmark
-#   xvfb, xauth: headless X for anything that needs a display; imagemagick: demo images
+# Debian packages the whole suite needs to build, test, run the demo and the benchmarks. They are
+# the Debian names of the packages' package.xml keys (scripts/check_deps.py, run by `make test`,
+# checks that both lists agree), plus a few that no package.xml covers:
+#   ros-base-dev, ros-core, rosbash: the ROS base set a ROS user has, roscore/rostopic/
+#       rosservice/rosrun (scripts/demo.sh, the README's commands)
+#   opencv-doc: OpenCV's sample chessboard images (a calibration test)
 DEB_PACKAGES := \
-	catkin ros-base-dev ros-message-generation libnodeletlib-dev libnodeletlib-tools \
-	pluginlib-dev librostest-dev python3-rostest python3-roslaunch ros-core rosbash rviz \
-	libcv-bridge-dev libimage-transport-dev libsensor-msgs-dev libtf2-ros-dev \
-	libcamera-calibration-parsers-dev \
-	librosbag-dev python3-rosbag python3-sensor-msgs python3-visualization-msgs \
-	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libceres-dev \
-	libusb-1.0-0-dev libuvc-dev libx11-dev libdiagnostic-updater-dev \
-	libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure python3-diagnostic-msgs \
-	libpcl-dev libgtest-dev libbenchmark-dev \
-	xvfb xauth imagemagick opencv-doc
+	catkin pkg-config ros-base-dev ros-core rosbash ros-message-generation ros-message-runtime \
+	libroscpp-dev libroslib-dev python3-rospy python3-roslaunch libnodeletlib-dev \
+	libnodeletlib-tools pluginlib-dev librostest-dev python3-rostest rviz \
+	libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev python3-sensor-msgs \
+	libvisualization-msgs-dev python3-visualization-msgs libdiagnostic-msgs-dev \
+	python3-diagnostic-msgs libtf2-ros-dev libcamera-calibration-parsers-dev librosbag-dev \
+	python3-rosbag libdiagnostic-updater-dev libdynamic-reconfigure-config-init-mutex-dev \
+	python3-dynamic-reconfigure \
+	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libceres-dev libpcl-dev \
+	libsqlite3-dev libcli11-dev libusb-1.0-0-dev libuvc-dev libx11-dev \
+	libgtest-dev libbenchmark-dev libtinyxml2-dev xvfb opencv-doc
 
 # Only `make format` needs these.
 FORMAT_PACKAGES := clang-format
