@@ -8,7 +8,8 @@
 # cmake gets -DPYTHON_EXECUTABLE=/usr/bin/python3.
 #
 #   make deps    install missing Debian packages (no-op when all are installed)
-#   make build   configure + build all packages into build/
+#   make build   configure + build all packages into build/ (devel space build/devel, install
+#                space build/install)
 #   make test    build + run every gtest/rostest; last line: "N passed, N failed[, N skipped]"
 #   make demo    build + scripts/demo.sh
 #   make bench   build + run every build/devel/lib/*/bench_* (JSON into build/bench/);
@@ -76,7 +77,8 @@ endef
 deps:
 	$(call install_missing,$(DEB_PACKAGES))
 
-# build: configure the catkin workspace with cmake into build/ and build everything.
+# build: configure the catkin workspace with cmake into build/ and build everything. The
+# install space is build/install (`cmake --install build`; the install-space test does it).
 # build/CATKIN_IGNORE keeps catkin from looking for packages inside build/.
 # The devel space's Python folder is made before configuring: catkin caches the test
 # environment (catkin_generated/setup_cached.sh) at configure time and leaves out folders that
@@ -85,7 +87,7 @@ build: deps
 	@mkdir -p $(BUILD_DIR)/devel/lib/python3/dist-packages && touch $(BUILD_DIR)/CATKIN_IGNORE
 	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(CMAKE_BUILD_TYPE) \
 	  -DPYTHON_EXECUTABLE=$(PY) -DCATKIN_DEVEL_PREFIX=$(BUILD_DIR)/devel \
-	  -DCATKIN_ENABLE_TESTING=ON
+	  -DCMAKE_INSTALL_PREFIX=$(BUILD_DIR)/install -DCATKIN_ENABLE_TESTING=ON
 	cmake --build $(BUILD_DIR) -j$(JOBS)
 
 # test: build the test binaries, run all gtests and rostests through catkin's run_tests
