@@ -3,11 +3,13 @@
 `roslaunch body_scan_launch full_scanner.launch gui:=false` in an environment that sources only
 the install space's setup.bash, and check that one scan publishes a merged cloud.
 
-Usage: /usr/bin/python3 scripts/test_install_space.py BUILD_DIR [--junit FILE]
+Usage: /usr/bin/python3 scripts/test_install_space.py BUILD_DIR [--installed] [--no-links]
+           [--junit FILE]
 
 BUILD_DIR is a configured and built catkin build tree whose CMAKE_INSTALL_PREFIX lies inside it
 (make build: BUILD_DIR/install). Test cases (JUnit XML with --junit, for test_summary.py):
-  install            `cmake --install BUILD_DIR` into a fresh install prefix
+  install            `cmake --install BUILD_DIR` into a fresh install prefix (with --installed:
+                     the prefix is used as installed, e.g. by `catkin_make --source . install`)
   environment        the install space's setup.bash alone: every package of this workspace
                      is found there by rospack, nothing points into the devel space
   full_scanner_cloud full_scanner.launch (sim backend, headless): /body_scan/capture yields a
@@ -205,6 +207,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("build_dir")
     parser.add_argument("--junit", metavar="FILE")
+    parser.add_argument("--installed", action="store_true",
+                        help="test CMAKE_INSTALL_PREFIX as it is, without installing")
     parser.add_argument("--no-links", action="store_true",
                         help="leave out the product_links case")
     args = parser.parse_args()
@@ -239,6 +243,10 @@ def main():
     def setup():
         state["prefix"] = cache_value(build_dir, "CMAKE_INSTALL_PREFIX")
         state["devel"] = cache_value(build_dir, "CATKIN_DEVEL_PREFIX")
+        if args.installed:
+            if not os.path.isfile(os.path.join(state["prefix"], "setup.bash")):
+                raise Failed("no setup.bash in %s: install first" % state["prefix"])
+            return "using %s as installed" % state["prefix"]
         return install(build_dir, state["prefix"], log_dir)
 
     case("install", setup)
