@@ -8,42 +8,43 @@
 
 namespace body_gait_id {
 
-std::vector<PoseRecord> trainingPoses(const body_gait::RepresentativePoses& s) {
+std::vector<PoseRecord> trainingPoses(const body_gait_model::RepresentativePoses& s) {
   std::vector<PoseRecord> poses;
   poses.reserve(kTrainingPoses);
-  const body_gait::GaitSet sets[kTrainingSequences] = {body_gait::GaitSet::kEta1,
-                                                       body_gait::GaitSet::kEta2};
+  const body_gait_model::GaitSet sets[kTrainingSequences] = {body_gait_model::GaitSet::kEta1,
+                                                             body_gait_model::GaitSet::kEta2};
   for (int sequence = 0; sequence < kTrainingSequences; ++sequence) {
-    const body_gait::GaitCycle cycle =
-        body_gait::reconstructGaitCycle(body_gait::gaitSet(s, sets[sequence]));
+    const body_gait_model::GaitCycle cycle =
+        body_gait_model::reconstructGaitCycle(body_gait_model::gaitSet(s, sets[sequence]));
     for (std::size_t f = 0; f < cycle.frames.size(); ++f)
       poses.push_back({0, sequence, static_cast<int>(f) + 1, cycle.frames[f]});
   }
   return poses;
 }
 
-body_gait::RepresentativePoses withMedianBody(const body_gait::RepresentativePoses& s) {
-  body_gait::RepresentativePoses out = s;
+body_gait_model::RepresentativePoses withMedianBody(const body_gait_model::RepresentativePoses& s) {
+  body_gait_model::RepresentativePoses out = s;
   // Sets one body measure (picked by `get`) of every pose to the median of the four.
   const auto median = [&out](auto get) {
     std::array<double, 4> v;
     for (int i = 0; i < 4; ++i) v[i] = get(out[i]);
     std::sort(v.begin(), v.end());
-    for (body_gait::BodyModel& pose : out) get(pose) = (v[1] + v[2]) / 2;
+    for (body_gait_model::BodyModel& pose : out) get(pose) = (v[1] + v[2]) / 2;
   };
-  for (int k = 0; k < body_gait::kSegmentCount; ++k) {
-    median([k](body_gait::BodyModel& m) -> double& { return m.r[k]; });
-    median([k](body_gait::BodyModel& m) -> double& { return m.shape.proximal_radius[k]; });
-    median([k](body_gait::BodyModel& m) -> double& { return m.shape.distal_radius[k]; });
+  for (int k = 0; k < body_gait_model::kSegmentCount; ++k) {
+    median([k](body_gait_model::BodyModel& m) -> double& { return m.r[k]; });
+    median([k](body_gait_model::BodyModel& m) -> double& { return m.shape.proximal_radius[k]; });
+    median([k](body_gait_model::BodyModel& m) -> double& { return m.shape.distal_radius[k]; });
   }
-  median([](body_gait::BodyModel& m) -> double& { return m.shape.shoulder_half_width; });
-  median([](body_gait::BodyModel& m) -> double& { return m.shape.shoulder_drop; });
-  median([](body_gait::BodyModel& m) -> double& { return m.shape.hip_half_width; });
-  median([](body_gait::BodyModel& m) -> double& { return m.shape.hip_rise; });
+  median([](body_gait_model::BodyModel& m) -> double& { return m.shape.shoulder_half_width; });
+  median([](body_gait_model::BodyModel& m) -> double& { return m.shape.shoulder_drop; });
+  median([](body_gait_model::BodyModel& m) -> double& { return m.shape.hip_half_width; });
+  median([](body_gait_model::BodyModel& m) -> double& { return m.shape.hip_rise; });
   return out;
 }
 
-body_gait::RepresentativePoses representativePoses(const std::vector<body_gait::BodyModel>& s) {
+body_gait_model::RepresentativePoses representativePoses(
+    const std::vector<body_gait_model::BodyModel>& s) {
   if (s.size() != 4)
     throw std::invalid_argument(
         "enrolment needs exactly 4 representative poses s1..s4 (thesis "

@@ -8,9 +8,9 @@
 namespace body_gait_id {
 namespace {
 
-using body_gait::BodyModel;
-using body_gait::kSegmentCount;
-using body_gait::PosedModel;
+using body_gait_model::BodyModel;
+using body_gait_model::kSegmentCount;
+using body_gait_model::PosedModel;
 
 constexpr int kMovableSegments = kSegmentCount - 1;  // the neck has no joint (5.4)
 
@@ -26,7 +26,7 @@ double projectedJointAngle(const Eigen::Vector3d& rest, const Eigen::Vector3d& a
 }
 
 GaitFeatures viewFeatures(const BodyModel& model, int normal) {
-  const PosedModel posed = body_gait::forwardKinematics(model);
+  const PosedModel posed = body_gait_model::forwardKinematics(model);
   // Body frame (model axes X_m, Y_m, Z_m): the view does not depend on where the subject stands
   // or which way they face.
   const Eigen::Matrix3d world_to_body = posed.whole_body.linear().transpose();
@@ -35,13 +35,13 @@ GaitFeatures viewFeatures(const BodyModel& model, int normal) {
   f.statics.resize(kSegmentCount);
   int angle = 0;
   for (int segment = 0; segment < kSegmentCount; ++segment) {
-    const body_gait::SegmentInfo& info = body_gait::segmentInfo(segment);
-    const body_gait::PosedSegment& s = posed.segments[segment];
+    const body_gait_model::SegmentInfo& info = body_gait_model::segmentInfo(segment);
+    const body_gait_model::PosedSegment& s = posed.segments[segment];
     Eigen::Vector3d axis = world_to_body * (s.distal - s.proximal);
     axis[normal] = 0;
     f.statics[segment] = axis.norm();
     if (info.fixed) continue;
-    const Eigen::Matrix3d parent = info.parent == body_gait::kWholeBody
+    const Eigen::Matrix3d parent = info.parent == body_gait_model::kWholeBody
                                        ? posed.whole_body.linear()
                                        : posed.segments[info.parent].frame.linear();
     const Eigen::Vector3d rest = world_to_body * parent.col(1) * (info.points_up ? 1.0 : -1.0);
@@ -75,7 +75,7 @@ GaitFeatures gaitFeatures(const BodyModel& model, View view) {
 }
 
 Eigen::VectorXd bodyShapeFeatures(const BodyModel& model) {
-  using namespace body_gait;
+  using namespace body_gait_model;
   const SegmentLengths& r = model.r;
   const BodyShape& shape = model.shape;
   Eigen::VectorXd b(kShapeSize);

@@ -45,26 +45,26 @@ CREATE TABLE normalization (  -- eqs 5.14-5.15 over the whole gallery, per view
   sum_shape BLOB NOT NULL, sum_sq_shape BLOB NOT NULL);
 )sql";
 
-constexpr int kShapeBlobSize = 2 * body_gait::kSegmentCount + 4;
+constexpr int kShapeBlobSize = 2 * body_gait_model::kSegmentCount + 4;
 
 constexpr View kViews[] = {View::k3D, View::kFrontal, View::kSide};
 
-Eigen::VectorXd shapeVector(const body_gait::BodyShape& shape) {
+Eigen::VectorXd shapeVector(const body_gait_model::BodyShape& shape) {
   Eigen::VectorXd v(kShapeBlobSize);
-  for (int i = 0; i < body_gait::kSegmentCount; ++i) {
+  for (int i = 0; i < body_gait_model::kSegmentCount; ++i) {
     v[i] = shape.proximal_radius[i];
-    v[body_gait::kSegmentCount + i] = shape.distal_radius[i];
+    v[body_gait_model::kSegmentCount + i] = shape.distal_radius[i];
   }
   v.tail<4>() << shape.shoulder_half_width, shape.shoulder_drop, shape.hip_half_width,
       shape.hip_rise;
   return v;
 }
 
-body_gait::BodyShape shapeFromVector(const Eigen::VectorXd& v) {
-  body_gait::BodyShape shape;
-  for (int i = 0; i < body_gait::kSegmentCount; ++i) {
+body_gait_model::BodyShape shapeFromVector(const Eigen::VectorXd& v) {
+  body_gait_model::BodyShape shape;
+  for (int i = 0; i < body_gait_model::kSegmentCount; ++i) {
     shape.proximal_radius[i] = v[i];
-    shape.distal_radius[i] = v[body_gait::kSegmentCount + i];
+    shape.distal_radius[i] = v[body_gait_model::kSegmentCount + i];
   }
   shape.shoulder_half_width = v[kShapeBlobSize - 4];
   shape.shoulder_drop = v[kShapeBlobSize - 3];
@@ -360,7 +360,7 @@ std::int64_t GalleryDatabase::enroll(const SubjectInfo& info, const std::vector<
                        "' without training poses: give the 4 fitted representative poses");
   // A NaN would poison the running sums of every later identification.
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    const body_gait::BodyModel& m = poses[i].model;
+    const body_gait_model::BodyModel& m = poses[i].model;
     if (!m.p.allFinite() || !m.q.allFinite() || !m.r.allFinite())
       throw GalleryError("gallery database '" + path_ + "': enrolment of '" + info.name +
                          "' refused: pose " + std::to_string(i + 1) +
@@ -544,7 +544,7 @@ std::vector<GalleryPose> GalleryDatabase::poses(View view) const {
                  "ORDER BY id",
                  thrower);
   while (list.step()) {
-    body_gait::BodyModel model;
+    body_gait_model::BodyModel model;
     model.r = list.vector(5, kStaticSize);
     model.shape = shapeFromVector(list.vector(6, kShapeBlobSize));
     out.push_back({list.integer(0),

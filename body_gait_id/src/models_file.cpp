@@ -11,7 +11,7 @@
 namespace body_gait_id {
 namespace {
 
-using body_gait::BodyModel;
+using body_gait_model::BodyModel;
 
 template <typename Vector>
 YAML::Node list(const Vector& v) {
@@ -31,11 +31,11 @@ void emit(std::ostream& out, const YAML::Node& node) {
 }  // namespace
 
 std::vector<BodyModel> readBodyModels(const std::string& path) {
-  return body_gait::loadBodyModels(path);
+  return body_gait_model::loadBodyModels(path);
 }
 
 void writeBodyModels(std::ostream& out, const std::vector<BodyModel>& models) {
-  out << body_gait::bodyModelsYaml(models);
+  out << body_gait_model::bodyModelsYaml(models);
 }
 
 void exportGalleryYaml(const GalleryDatabase& db, std::ostream& out) {
@@ -58,7 +58,7 @@ void exportGalleryYaml(const GalleryDatabase& db, std::ostream& out) {
     root["subjects"].push_back(node);
   }
   for (const PoseRecord& record : db.poseRecords()) {
-    YAML::Node pose = body_gait::bodyModelToYaml(record.model);
+    YAML::Node pose = body_gait_model::bodyModelToYaml(record.model);
     pose["sequence"] = record.sequence;
     pose["frame"] = record.frame;
     root["subjects"][index.at(record.subject_id)]["poses"].push_back(pose);

@@ -9,7 +9,7 @@
 namespace body_gait_id::eval {
 namespace {
 
-using namespace body_gait;
+using namespace body_gait_model;
 constexpr double kDegree = 3.14159265358979323846 / 180;
 
 struct Legs {

@@ -6,22 +6,22 @@
 namespace body_gait_id {
 namespace {
 
-body_gait::RepresentativePoses walkingPoses() {
-  body_gait::RepresentativePoses s;
+body_gait_model::RepresentativePoses walkingPoses() {
+  body_gait_model::RepresentativePoses s;
   const double swing[4] = {0.35, 0.1, -0.3, -0.05};
   for (int i = 0; i < 4; ++i) {
-    s[i] = body_gait::standingModel(1.72);
+    s[i] = body_gait_model::standingModel(1.72);
     s[i].p << 0.05 * i, 0, 0.95, 0, 0.1, 0;
-    s[i].setJointAngles(body_gait::kRightUpperLeg, -swing[i], 0.02);
-    s[i].setJointAngles(body_gait::kLeftUpperLeg, swing[i], -0.03);
-    s[i].setJointAngles(body_gait::kRightUpperArm, swing[i], -0.1);
-    s[i].setJointAngles(body_gait::kRightLowerLeg, 0.2 + 0.1 * i, 0);
+    s[i].setJointAngles(body_gait_model::kRightUpperLeg, -swing[i], 0.02);
+    s[i].setJointAngles(body_gait_model::kLeftUpperLeg, swing[i], -0.03);
+    s[i].setJointAngles(body_gait_model::kRightUpperArm, swing[i], -0.1);
+    s[i].setJointAngles(body_gait_model::kRightLowerLeg, 0.2 + 0.1 * i, 0);
   }
   return s;
 }
 
 TEST(Enrollment, TwoSequencesOfTwentyWithTheRepresentativePoses) {
-  const body_gait::RepresentativePoses s = walkingPoses();
+  const body_gait_model::RepresentativePoses s = walkingPoses();
   const std::vector<PoseRecord> poses = trainingPoses(s);
   ASSERT_EQ(poses.size(), 40u);
   for (int i = 0; i < 40; ++i) {
@@ -31,12 +31,12 @@ TEST(Enrollment, TwoSequencesOfTwentyWithTheRepresentativePoses) {
   const auto at = [&](int sequence, int frame) { return poses[sequence * 20 + frame - 1].model; };
   // The symmetric pose sb_i is s_{i+2} mirrored: half a cycle later the other leg is where
   // this one was (5.8.3).
-  const auto mirrored = [&](int i) { return body_gait::mirroredPose(s[(i + 2) % 4]); };
+  const auto mirrored = [&](int i) { return body_gait_model::mirroredPose(s[(i + 2) % 4]); };
   for (int i = 0; i < 4; ++i) {
-    const int frame = body_gait::kRepresentativeFrames[i];
+    const int frame = body_gait_model::kRepresentativeFrames[i];
     // eta1 takes s1 and s3 as they are, s2 and s4 mirrored; eta2 the other way round.
-    const body_gait::BodyModel eta1 = i % 2 == 0 ? s[i] : mirrored(i);
-    const body_gait::BodyModel eta2 = i % 2 == 0 ? mirrored(i) : s[i];
+    const body_gait_model::BodyModel eta1 = i % 2 == 0 ? s[i] : mirrored(i);
+    const body_gait_model::BodyModel eta2 = i % 2 == 0 ? mirrored(i) : s[i];
     EXPECT_LT((at(0, frame).q - eta1.q).norm(), 1e-12) << "eta1, s" << i + 1;
     EXPECT_LT((at(1, frame).q - eta2.q).norm(), 1e-12) << "eta2, s" << i + 1;
   }
@@ -46,7 +46,7 @@ TEST(Enrollment, TwoSequencesOfTwentyWithTheRepresentativePoses) {
 }
 
 TEST(Enrollment, NeedsExactlyFourPoses) {
-  const body_gait::RepresentativePoses s = walkingPoses();
+  const body_gait_model::RepresentativePoses s = walkingPoses();
   EXPECT_NO_THROW(representativePoses({s[0], s[1], s[2], s[3]}));
   try {
     representativePoses({s[0], s[1], s[2]});
@@ -58,17 +58,17 @@ TEST(Enrollment, NeedsExactlyFourPoses) {
 
 // The median of the four fits: one bad fit of a segment does not move it, the angles stay.
 TEST(Enrollment, MedianBodyIgnoresOneBadFit) {
-  body_gait::RepresentativePoses s;
+  body_gait_model::RepresentativePoses s;
   const double thigh[4] = {0.42, 0.44, 0.60, 0.43};  // pose 3's thigh badly fitted
   for (int i = 0; i < 4; ++i) {
-    s[i] = body_gait::standingModel(1.75);
-    s[i].r[body_gait::kRightUpperLeg] = thigh[i];
+    s[i] = body_gait_model::standingModel(1.75);
+    s[i].r[body_gait_model::kRightUpperLeg] = thigh[i];
     s[i].shape.hip_half_width = 0.08 + 0.01 * i;
     s[i].q[3] = 0.1 * i;
   }
-  const body_gait::RepresentativePoses m = withMedianBody(s);
+  const body_gait_model::RepresentativePoses m = withMedianBody(s);
   for (int i = 0; i < 4; ++i) {
-    EXPECT_DOUBLE_EQ(m[i].r[body_gait::kRightUpperLeg], 0.435);  // (0.43 + 0.44) / 2
+    EXPECT_DOUBLE_EQ(m[i].r[body_gait_model::kRightUpperLeg], 0.435);  // (0.43 + 0.44) / 2
     EXPECT_DOUBLE_EQ(m[i].shape.hip_half_width, 0.095);
     EXPECT_EQ(m[i].q, s[i].q);
     EXPECT_EQ(m[i].p, s[i].p);

@@ -14,7 +14,7 @@ namespace fs = std::filesystem;
 
 CachedFit someFit() {
   CachedFit fit;
-  fit.model = body_gait::standingModel(1.71);
+  fit.model = body_gait_model::standingModel(1.71);
   fit.model.p << 0.1, -0.2, 0.95, 0.01, 1.234567890123, -0.02;
   for (int i = 0; i < fit.model.q.size(); ++i) fit.model.q(i) = 0.1 * i - 1.0 / 3;
   fit.model.shape.hip_rise = 0.0612345;
@@ -86,12 +86,12 @@ TEST(FitCache, DamagedForeignOrOldEntriesAreMisses) {
 }
 
 TEST(FitCache, KeyChangesWithSpecAndScanner) {
-  body_scan::sim::HumanBodySpec spec;
+  body_scan_driver::sim::HumanBodySpec spec;
   const std::string key = scanKey(spec, "sampler");
   EXPECT_EQ(key.size(), 16u);
   EXPECT_EQ(scanKey(spec, "sampler"), key);  // deterministic
   EXPECT_NE(scanKey(spec, "full"), key);
-  body_scan::sim::HumanBodySpec moved = spec;
+  body_scan_driver::sim::HumanBodySpec moved = spec;
   moved.pose.left_knee_flexion += 1e-9;
   EXPECT_NE(scanKey(moved, "sampler"), key);
   moved = spec;
@@ -102,7 +102,7 @@ TEST(FitCache, KeyChangesWithSpecAndScanner) {
   EXPECT_NE(scanKey(moved, "sampler"), key);
   // Bodies posed by explicit frames (motion capture, issue 7) differ by their frames alone.
   moved = spec;
-  moved.segment_frames = body_scan::sim::bodySegmentFrames(spec);
+  moved.segment_frames = body_scan_driver::sim::bodySegmentFrames(spec);
   const std::string framed = scanKey(moved, "sampler");
   EXPECT_NE(framed, key);
   moved.segment_frames->foot[0].origin.x() += 1e-9;

@@ -8,20 +8,20 @@
 namespace body_gait_id {
 namespace {
 
-using body_gait::BodyModel;
+using body_gait_model::BodyModel;
 
 // Index of a movable segment's angle in a 2D dynamic feature (the neck is left out).
-int viewIndex(int segment) { return body_gait::jointAngleIndex(segment) / 2; }
+int viewIndex(int segment) { return body_gait_model::jointAngleIndex(segment) / 2; }
 
 BodyModel turnedModel(double heading) {
-  BodyModel model = body_gait::standingModel(1.75);
+  BodyModel model = body_gait_model::standingModel(1.75);
   model.p << 0.3, 0.9, -0.2, 0, heading, 0;
   return model;
 }
 
 TEST(GaitFeatures, ThreeDIsJointAnglesAndLengths) {
   BodyModel model = turnedModel(0.4);
-  model.setJointAngles(body_gait::kRightUpperLeg, 0.3, -0.1);
+  model.setJointAngles(body_gait_model::kRightUpperLeg, 0.3, -0.1);
   const GaitFeatures f = gaitFeatures(model);
   ASSERT_EQ(f.dynamic.size(), 22);
   ASSERT_EQ(f.statics.size(), 12);
@@ -33,25 +33,25 @@ TEST(GaitFeatures, ThreeDIsJointAnglesAndLengths) {
 TEST(GaitFeatures, FrontalViewAnglesAreCoronalJointAngles) {
   for (double heading : {0.0, 1.3, -2.5}) {
     BodyModel model = turnedModel(heading);
-    model.setJointAngles(body_gait::kRightUpperArm, 0, -0.3);
-    model.setJointAngles(body_gait::kRightLowerArm, 0, -0.2);
-    model.setJointAngles(body_gait::kLeftUpperLeg, 0, 0.25);
+    model.setJointAngles(body_gait_model::kRightUpperArm, 0, -0.3);
+    model.setJointAngles(body_gait_model::kRightLowerArm, 0, -0.2);
+    model.setJointAngles(body_gait_model::kLeftUpperLeg, 0, 0.25);
     const GaitFeatures frontal = gaitFeatures(model, View::kFrontal);
     const GaitFeatures side = gaitFeatures(model, View::kSide);
     ASSERT_EQ(frontal.dynamic.size(), 11);
     ASSERT_EQ(frontal.statics.size(), 12);
-    EXPECT_NEAR(frontal.dynamic[viewIndex(body_gait::kRightUpperArm)], -0.3, 1e-12);
-    EXPECT_NEAR(frontal.dynamic[viewIndex(body_gait::kRightLowerArm)], -0.2, 1e-12);
-    EXPECT_NEAR(frontal.dynamic[viewIndex(body_gait::kLeftUpperLeg)], 0.25, 1e-12);
-    EXPECT_NEAR(frontal.dynamic[viewIndex(body_gait::kLeftLowerLeg)], 0.0, 1e-12);
+    EXPECT_NEAR(frontal.dynamic[viewIndex(body_gait_model::kRightUpperArm)], -0.3, 1e-12);
+    EXPECT_NEAR(frontal.dynamic[viewIndex(body_gait_model::kRightLowerArm)], -0.2, 1e-12);
+    EXPECT_NEAR(frontal.dynamic[viewIndex(body_gait_model::kLeftUpperLeg)], 0.25, 1e-12);
+    EXPECT_NEAR(frontal.dynamic[viewIndex(body_gait_model::kLeftLowerLeg)], 0.0, 1e-12);
     EXPECT_NEAR(side.dynamic.cwiseAbs().maxCoeff(), 0.0, 1e-12);
     // Lengths: whole in the frontal plane; the side view sees their vertical part only.
-    const double arm = model.r[body_gait::kRightUpperArm];
-    EXPECT_NEAR(frontal.statics[body_gait::kRightUpperArm], arm, 1e-12);
-    EXPECT_NEAR(side.statics[body_gait::kRightUpperArm], arm * std::cos(0.3), 1e-12);
+    const double arm = model.r[body_gait_model::kRightUpperArm];
+    EXPECT_NEAR(frontal.statics[body_gait_model::kRightUpperArm], arm, 1e-12);
+    EXPECT_NEAR(side.statics[body_gait_model::kRightUpperArm], arm * std::cos(0.3), 1e-12);
     // The forearm hangs at 0.5 rad from the vertical (0.3 + 0.2).
-    const double forearm = model.r[body_gait::kRightLowerArm];
-    EXPECT_NEAR(side.statics[body_gait::kRightLowerArm], forearm * std::cos(0.5), 1e-12);
+    const double forearm = model.r[body_gait_model::kRightLowerArm];
+    EXPECT_NEAR(side.statics[body_gait_model::kRightLowerArm], forearm * std::cos(0.5), 1e-12);
   }
 }
 
@@ -59,29 +59,29 @@ TEST(GaitFeatures, FrontalViewAnglesAreCoronalJointAngles) {
 TEST(GaitFeatures, SideViewAnglesAreSagittalJointAngles) {
   for (double heading : {0.0, 0.7, 3.0}) {
     BodyModel model = turnedModel(heading);
-    model.setJointAngles(body_gait::kUpperTorso, 0.1, 0);
-    model.setJointAngles(body_gait::kRightUpperLeg, -0.4, 0);
-    model.setJointAngles(body_gait::kRightLowerLeg, 0.6, 0);
-    model.setJointAngles(body_gait::kLeftUpperArm, 0.35, 0);
+    model.setJointAngles(body_gait_model::kUpperTorso, 0.1, 0);
+    model.setJointAngles(body_gait_model::kRightUpperLeg, -0.4, 0);
+    model.setJointAngles(body_gait_model::kRightLowerLeg, 0.6, 0);
+    model.setJointAngles(body_gait_model::kLeftUpperArm, 0.35, 0);
     const GaitFeatures side = gaitFeatures(model, View::kSide);
     const GaitFeatures frontal = gaitFeatures(model, View::kFrontal);
-    EXPECT_NEAR(side.dynamic[viewIndex(body_gait::kUpperTorso)], 0.1, 1e-12);
-    EXPECT_NEAR(side.dynamic[viewIndex(body_gait::kRightUpperLeg)], -0.4, 1e-12);
-    EXPECT_NEAR(side.dynamic[viewIndex(body_gait::kRightLowerLeg)], 0.6, 1e-12);
+    EXPECT_NEAR(side.dynamic[viewIndex(body_gait_model::kUpperTorso)], 0.1, 1e-12);
+    EXPECT_NEAR(side.dynamic[viewIndex(body_gait_model::kRightUpperLeg)], -0.4, 1e-12);
+    EXPECT_NEAR(side.dynamic[viewIndex(body_gait_model::kRightLowerLeg)], 0.6, 1e-12);
     // The arm hangs from the leaning upper torso: its joint angle, not its absolute one.
-    EXPECT_NEAR(side.dynamic[viewIndex(body_gait::kLeftUpperArm)], 0.35, 1e-12);
+    EXPECT_NEAR(side.dynamic[viewIndex(body_gait_model::kLeftUpperArm)], 0.35, 1e-12);
     EXPECT_NEAR(frontal.dynamic.cwiseAbs().maxCoeff(), 0.0, 1e-12);
     // The shank's axis is 0.2 rad off the vertical: the frontal view sees cos(0.2) of it.
-    const double shank = model.r[body_gait::kRightLowerLeg];
-    EXPECT_NEAR(frontal.statics[body_gait::kRightLowerLeg], shank * std::cos(0.2), 1e-12);
-    EXPECT_NEAR(side.statics[body_gait::kRightLowerLeg], shank, 1e-12);
+    const double shank = model.r[body_gait_model::kRightLowerLeg];
+    EXPECT_NEAR(frontal.statics[body_gait_model::kRightLowerLeg], shank * std::cos(0.2), 1e-12);
+    EXPECT_NEAR(side.statics[body_gait_model::kRightLowerLeg], shank, 1e-12);
   }
 }
 
 TEST(GaitFeatures, ViewsDoNotDependOnHeadingOrPlace) {
   BodyModel a = turnedModel(0.0);
-  a.setJointAngles(body_gait::kRightUpperLeg, -0.3, 0.1);
-  a.setJointAngles(body_gait::kLeftLowerArm, 0.4, -0.2);
+  a.setJointAngles(body_gait_model::kRightUpperLeg, -0.3, 0.1);
+  a.setJointAngles(body_gait_model::kLeftLowerArm, 0.4, -0.2);
   BodyModel b = a;
   b.p << -1.0, 2.0, 0.5, 0, 2.2, 0;
   for (View view : {View::kFrontal, View::kSide}) {
@@ -165,7 +165,7 @@ TEST(FeatureMoments, RemovalLeavesTheStatisticsOfTheRest) {
 
 TEST(FeatureNormalization, BadInputGivesClearErrors) {
   EXPECT_THROW(FeatureNormalization::fit({}), std::invalid_argument);
-  const body_gait::BodyModel model = turnedModel(0);
+  const body_gait_model::BodyModel model = turnedModel(0);
   const FeatureNormalization n = FeatureNormalization::fit({gaitFeatures(model)});
   try {
     n.apply(gaitFeatures(model, View::kFrontal), FeatureSet::kDynamic);
@@ -181,22 +181,22 @@ TEST(FeatureNormalization, BadInputGivesClearErrors) {
 // stands upright, whatever its lengths and hip offset.
 TEST(GaitFeatures, ShapeHeightIsTheUprightModelsExtent) {
   for (double stature : {1.55, 1.75, 1.95}) {
-    BodyModel model = body_gait::standingModel(stature);
-    model.r[body_gait::kLeftLowerLeg] += 0.02;  // legs of unequal length: their mean counts
-    model.r[body_gait::kRightLowerLeg] -= 0.02;
+    BodyModel model = body_gait_model::standingModel(stature);
+    model.r[body_gait_model::kLeftLowerLeg] += 0.02;  // legs of unequal length: their mean counts
+    model.r[body_gait_model::kRightLowerLeg] -= 0.02;
     model.shape.hip_rise += 0.01;
-    const body_gait::PosedModel posed = body_gait::forwardKinematics(model);
-    const double top = posed.segments[body_gait::kHead].distal.z();
-    const double sole = (posed.segments[body_gait::kLeftLowerLeg].distal.z() +
-                         posed.segments[body_gait::kRightLowerLeg].distal.z()) /
+    const body_gait_model::PosedModel posed = body_gait_model::forwardKinematics(model);
+    const double top = posed.segments[body_gait_model::kHead].distal.z();
+    const double sole = (posed.segments[body_gait_model::kLeftLowerLeg].distal.z() +
+                         posed.segments[body_gait_model::kRightLowerLeg].distal.z()) /
                         2;
     const Eigen::VectorXd b = bodyShapeFeatures(model);
     ASSERT_EQ(b.size(), kShapeSize);
     EXPECT_NEAR(b[0], top - sole, 1e-9) << stature;
     EXPECT_EQ(b[1], model.shape.shoulder_half_width);
     EXPECT_EQ(b[2], model.shape.hip_half_width);
-    EXPECT_EQ(b[3], model.shape.proximal_radius[body_gait::kUpperTorso]);
-    EXPECT_EQ(b[kShapeSize - 1], model.shape.distal_radius[body_gait::kLeftLowerLeg]);
+    EXPECT_EQ(b[3], model.shape.proximal_radius[body_gait_model::kUpperTorso]);
+    EXPECT_EQ(b[kShapeSize - 1], model.shape.distal_radius[body_gait_model::kLeftLowerLeg]);
     EXPECT_EQ(gaitFeatures(model).shape, b);
     EXPECT_EQ(gaitFeatures(model, View::kSide).shape.size(), 0);  // no girths in a silhouette
   }

@@ -28,12 +28,12 @@ class GaitGalleryCli : public ::testing::Test {
     dir_ = fs::temp_directory_path() / ("test_gait_gallery_cli_" + std::to_string(getpid()));
     fs::create_directories(dir_);
     database_ = (dir_ / "gallery.db").string();
-    const auto people = body_gait::eval::simulatedPeople(2, 3);
+    const auto people = body_gait_model::eval::simulatedPeople(2, 3);
     for (int person = 0; person < 2; ++person) {
-      std::vector<body_gait::BodyModel> models;
+      std::vector<body_gait_model::BodyModel> models;
       for (int index = 1; index <= 4; ++index)
-        models.push_back(body_gait::eval::modelFromSkeleton(
-            body_gait::eval::walkingSubject(people[person], index, 0)));
+        models.push_back(body_gait_model::eval::modelFromSkeleton(
+            body_gait_model::eval::walkingSubject(people[person], index, 0)));
       std::ofstream out(models_file(person));
       writeBodyModels(out, models);
     }

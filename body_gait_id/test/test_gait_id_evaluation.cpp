@@ -17,7 +17,8 @@ namespace {
 namespace fs = std::filesystem;
 
 struct SmallRun {
-  std::vector<body_gait::eval::SimulatedPerson> persons = body_gait::eval::simulatedPeople(3, 1);
+  std::vector<body_gait_model::eval::SimulatedPerson> persons =
+      body_gait_model::eval::simulatedPeople(3, 1);
   PersonSource people;
   fs::path cache = fs::temp_directory_path() / ("test_gait_id_eval_" + std::to_string(getpid()));
   ScanOptions options;
@@ -27,7 +28,7 @@ struct SmallRun {
   SmallRun() {
     for (const auto& person : persons) people.names.push_back(person.name);
     people.spec = [this](int person, int pose, int trial, double heading) {
-      return body_gait::eval::walkingSubject(persons[person], pose, trial, heading);
+      return body_gait_model::eval::walkingSubject(persons[person], pose, trial, heading);
     };
     options.cache_folder = cache.string();
     options.progress = false;
@@ -122,9 +123,9 @@ TEST(GaitIdEvaluation, SingleScanProbesAreTheWalksOwnFits) {
   const ProbeSet probes = identifyProbes(walks, rows[1], 0, 1, 3, ProbeFrames::kSingleScans);
   ASSERT_EQ(probes.probes.size(), 12u);  // 3 people x 4 scans
   for (std::size_t i = 0; i < probes.probes.size(); ++i)
-    EXPECT_EQ(probes.probes[i].true_frame, body_gait::kRepresentativeFrames[i % 4]);
+    EXPECT_EQ(probes.probes[i].true_frame, body_gait_model::kRepresentativeFrames[i % 4]);
   // Walk 1 kept each fit's own lengths: its scans differ from each other, unlike eta3's frames.
-  const body_gait::RepresentativePoses& raw = *smallRun().walks[0][1];
+  const body_gait_model::RepresentativePoses& raw = *smallRun().walks[0][1];
   EXPECT_EQ((*walks[0][1])[0].r, raw[0].r);
   EXPECT_NE((*walks[0][1])[0].r, (*walks[0][1])[1].r);
   EXPECT_NE((*walks[0][0])[0].r, (*smallRun().walks[0][0])[0].r);  // walk 0: median body
@@ -213,7 +214,7 @@ TEST(GaitIdEvaluation, MotionCaptureWalksAsPeople) {
   ASSERT_EQ(picked.size(), 6u);
   EXPECT_EQ(picked[0], "07_02 (person 07, walk 0): poses 1-4 at frames 11 39 75 108");
   // The pose faces the heading it is given (the BVH body's front is +x at heading 0).
-  const body_scan::sim::HumanBodySpec turned = people.spec(0, 1, 1, 0.5);
+  const body_scan_driver::sim::HumanBodySpec turned = people.spec(0, 1, 1, 0.5);
   EXPECT_DOUBLE_EQ(turned.pose.heading, 0.5);
   ScanOptions options;
   options.scanner = ScannerKind::kTruth;

@@ -31,12 +31,12 @@ namespace {
 namespace fs = std::filesystem;
 constexpr int kPeople = 6;
 
-body_scan_msgs::BodyModel modelMsg(const body_scan::sim::HumanBodySpec& spec) {
-  body_gait::BodyFit fit;
-  fit.model = body_gait::eval::modelFromSkeleton(spec);
+body_scan_msgs::BodyModel modelMsg(const body_scan_driver::sim::HumanBodySpec& spec) {
+  body_gait_model::BodyFit fit;
+  fit.model = body_gait_model::eval::modelFromSkeleton(spec);
   std_msgs::Header header;
   header.frame_id = "world";
-  return body_gait::toMsg(fit, header, 0.0);
+  return body_gait_model::toMsg(fit, header, 0.0);
 }
 
 // A gait_id_node process on a gallery file, its output in a log file.
@@ -112,7 +112,7 @@ class GaitIdNodeTest : public ::testing::Test {
     dir_ = fs::temp_directory_path() / ("test_gait_id_node_" + std::to_string(getpid()));
     fs::remove_all(dir_);  // a gallery left by an earlier process of the same pid
     fs::create_directories(dir_);
-    people_ = body_gait::eval::simulatedPeople(kPeople, 6);
+    people_ = body_gait_model::eval::simulatedPeople(kPeople, 6);
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -123,7 +123,7 @@ class GaitIdNodeTest : public ::testing::Test {
     srv.request.age = people_[person].age;
     for (int index = 1; index <= 4; ++index)
       srv.request.poses.push_back(
-          modelMsg(body_gait::eval::walkingSubject(people_[person], index, 0)));
+          modelMsg(body_gait_model::eval::walkingSubject(people_[person], index, 0)));
     srv.request.scan_paths = {"/scans/" + people_[person].name + "_walk0.bag"};
     return srv;
   }
@@ -132,7 +132,7 @@ class GaitIdNodeTest : public ::testing::Test {
     std::vector<body_scan_msgs::BodyModel> out;
     for (int person = 0; person < kPeople; ++person)
       for (int index = 1; index <= 4; ++index)
-        out.push_back(modelMsg(body_gait::eval::walkingSubject(people_[person], index, 1)));
+        out.push_back(modelMsg(body_gait_model::eval::walkingSubject(people_[person], index, 1)));
     return out;
   }
   static std::vector<Answer> identifyAll(const NodeProcess& node,
@@ -150,7 +150,7 @@ class GaitIdNodeTest : public ::testing::Test {
   }
 
   fs::path dir_;
-  std::vector<body_gait::eval::SimulatedPerson> people_;
+  std::vector<body_gait_model::eval::SimulatedPerson> people_;
 };
 
 TEST_F(GaitIdNodeTest, EnrolRestartIdentifySameAnswers) {

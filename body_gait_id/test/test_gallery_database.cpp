@@ -40,7 +40,7 @@ class GalleryDatabaseTest : public ::testing::Test {
       PoseRecord record;
       record.sequence = n / 20;
       record.frame = n % 20 + 1;
-      record.model = body_gait::standingModel(stature);
+      record.model = body_gait_model::standingModel(stature);
       record.model.p << 0.1 * n, 0.9, 0, 0, 0.2, 0;
       for (int k = 0; k < 22; ++k) record.model.q[k] = angle(rng);
       poses.push_back(record);
@@ -172,7 +172,7 @@ TEST_F(GalleryDatabaseTest, RemoveCascadesAndRefitsTheStatistics) {
   EXPECT_EQ(db.poses().size(), 40u);
   EXPECT_EQ(scalar("SELECT COUNT(*) FROM scans"), 1);
   const double only_b = db.normalization().mean_static[0];
-  EXPECT_NEAR(only_b, body_gait::standingModel(1.9).r[0], 1e-12);
+  EXPECT_NEAR(only_b, body_gait_model::standingModel(1.9).r[0], 1e-12);
   EXPECT_GT(std::abs(only_b - both), 1e-3);
   // The shape sums lose A's poses too: B's own shape statistics remain.
   {

@@ -28,23 +28,23 @@ class ModelsFileTest : public ::testing::Test {
     std::ofstream(path) << text;
     return path;
   }
-  static body_gait::BodyModel pose(double stature, double swing) {
-    body_gait::BodyModel m = body_gait::standingModel(stature);
+  static body_gait_model::BodyModel pose(double stature, double swing) {
+    body_gait_model::BodyModel m = body_gait_model::standingModel(stature);
     m.p << 0.1, 0.2, 0.95, 0.01, 1.0 / 3.0, -0.02;
-    m.setJointAngles(body_gait::kRightUpperLeg, swing, 0.05);
-    m.setJointAngles(body_gait::kLeftUpperLeg, -swing, -0.05);
+    m.setJointAngles(body_gait_model::kRightUpperLeg, swing, 0.05);
+    m.setJointAngles(body_gait_model::kLeftUpperLeg, -swing, -0.05);
     return m;
   }
   fs::path dir_;
 };
 
 TEST_F(ModelsFileTest, WrittenModelsReadBackExactly) {
-  std::vector<body_gait::BodyModel> models = {pose(1.7, 0.3), pose(1.7, 0.1), pose(1.7, -0.3),
-                                              pose(1.7, -0.1)};
+  std::vector<body_gait_model::BodyModel> models = {pose(1.7, 0.3), pose(1.7, 0.1), pose(1.7, -0.3),
+                                                    pose(1.7, -0.1)};
   models[2].shape.hip_rise = 0.0712345678901234;
   std::ostringstream text;
   writeBodyModels(text, models);
-  const std::vector<body_gait::BodyModel> read = readBodyModels(write("m.yaml", text.str()));
+  const std::vector<body_gait_model::BodyModel> read = readBodyModels(write("m.yaml", text.str()));
   ASSERT_EQ(read.size(), 4u);
   for (int i = 0; i < 4; ++i) {
     EXPECT_EQ(read[i].p, models[i].p);
@@ -72,7 +72,7 @@ TEST_F(ModelsFileTest, ReadsBodyModelMessagesAsRostopicEchoPrintsThem) {
     out << node;
     text += std::string(out.c_str()) + "\n---\n";
   }
-  const std::vector<body_gait::BodyModel> read = readBodyModels(write("echo.yaml", text));
+  const std::vector<body_gait_model::BodyModel> read = readBodyModels(write("echo.yaml", text));
   ASSERT_EQ(read.size(), 2u);
   EXPECT_EQ(read[1].q, pose(1.8, -0.2).q);
   EXPECT_EQ(read[0].r, pose(1.8, 0.3).r);

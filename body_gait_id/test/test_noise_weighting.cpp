@@ -17,12 +17,12 @@
 namespace body_gait_id::eval {
 namespace {
 
-using body_gait::BodyModel;
+using body_gait_model::BodyModel;
 
 // Per-pose CVs: twice the per-walk within-subject SDs that evaluate_gait_id --measure-noise
 // measured on the sampler's fits of 50 people (a walk is the mean of 4 poses), rounded.
 void addFitNoise(BodyModel& m, std::mt19937& rng, double head_radius_cv) {
-  using namespace body_gait;
+  using namespace body_gait_model;
   std::normal_distribution<double> normal;
   const auto scale = [&](double& value, double cv) { value *= 1 + cv * normal(rng); };
   //                               torso neck  head  R up  R lo  L up  L lo  l.torso thighs, shanks
@@ -46,12 +46,12 @@ void addFitNoise(BodyModel& m, std::mt19937& rng, double head_radius_cv) {
 
 // count people of a population seed, 2 walks each, true models plus fixed noise.
 FittedWalks noisyWalks(int count, std::uint32_t seed, double head_radius_cv = 0.10) {
-  const std::vector<body_gait::eval::SimulatedPerson> persons =
-      body_gait::eval::simulatedPeople(count, seed);
+  const std::vector<body_gait_model::eval::SimulatedPerson> persons =
+      body_gait_model::eval::simulatedPeople(count, seed);
   PersonSource people;
   for (const auto& person : persons) people.names.push_back(person.name);
   people.spec = [&persons](int person, int pose, int trial, double heading) {
-    return body_gait::eval::walkingSubject(persons[person], pose, trial, heading);
+    return body_gait_model::eval::walkingSubject(persons[person], pose, trial, heading);
   };
   ScanOptions truth;
   truth.scanner = ScannerKind::kTruth;
@@ -77,8 +77,8 @@ TEST(NoiseWeighting, ShapeAndWeightsRecoverTheSteadyComponents) {
 
   // The learned noise is the one put in: a walk's length is the mean of 4 poses, so 10 % / 2 of
   // a ~0.32 m upper arm, 2.5 % / 2 of a ~0.43 m thigh (25 % tolerance: 30 people).
-  EXPECT_NEAR(weighted.noise.statics[body_gait::kRightUpperArm], 0.10 * 0.32 / 2, 0.004);
-  EXPECT_NEAR(weighted.noise.statics[body_gait::kRightUpperLeg], 0.025 * 0.43 / 2, 0.0013);
+  EXPECT_NEAR(weighted.noise.statics[body_gait_model::kRightUpperArm], 0.10 * 0.32 / 2, 0.004);
+  EXPECT_NEAR(weighted.noise.statics[body_gait_model::kRightUpperLeg], 0.025 * 0.43 / 2, 0.0013);
 
   // --measure-noise's table sees the same: the upper arm's within-subject SD is the noise put in
   // (a walk = mean of 4 poses), the thigh's a quarter of it, the leg (thigh + shank) steadier
@@ -123,8 +123,8 @@ TEST(NoiseWeighting, RobustDistanceSurvivesAFailedComponent) {
   FittedWalks test = noisyWalks(20, 1, 0.002);
   for (int person : {2, 9, 15})
     for (BodyModel& pose : test[person][1].value()) {
-      pose.shape.proximal_radius[body_gait::kHead] /= 2;
-      pose.shape.distal_radius[body_gait::kHead] /= 2;
+      pose.shape.proximal_radius[body_gait_model::kHead] /= 2;
+      pose.shape.distal_radius[body_gait_model::kHead] /= 2;
     }
   TransformOptions weighted;
   weighted.kind = FeatureTransform::kNoiseWeighted;

@@ -11,7 +11,7 @@
 
 namespace {
 
-using namespace body_gait;
+using namespace body_gait_model;
 
 // One simulated subject in gait pose 1, sampled densely and trimmed to 1,000,000 points.
 const Cloud& millionPoints() {

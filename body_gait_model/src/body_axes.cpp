@@ -9,7 +9,7 @@
 
 #include "order_statistics.h"
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr size_t kMinimumPoints = 1000;
@@ -254,4 +254,4 @@ BodyAxes estimateBodyAxes(const Cloud& cloud, const BodyAxesOptions& options) {
   return result;
 }
 
-}  // namespace body_gait
+}  // namespace body_gait_model

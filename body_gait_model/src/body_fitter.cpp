@@ -12,7 +12,7 @@
 
 #include "order_statistics.h"
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -682,4 +682,4 @@ BodyFit fitBody(const Cloud& full_cloud, const FitOptions& options) {
   return fit;
 }
 
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -5,7 +5,7 @@
 #include <map>
 #include <stdexcept>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 // Reads the keys of one map into their fields; an unknown key is an error.
@@ -112,4 +112,4 @@ FitOptions loadFitOptions(const std::string& path) {
   return options;
 }
 
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -152,4 +152,4 @@ GaitCycle reconstructGaitCycle(const RepresentativePoses& poses) {
   return cycle;
 }
 
-}  // namespace body_gait
+}  // namespace body_gait_model

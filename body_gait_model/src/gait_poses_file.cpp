@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 const std::set<std::string> kModelKeys = {"p",
@@ -188,4 +188,4 @@ void saveRepresentativePoses(const std::string& path, const RepresentativePoses&
   if (!file) throw std::runtime_error("writing gait poses file '" + path + "' failed");
 }
 
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -308,4 +308,4 @@ NearestSegment nearestSegment(const PosedModel& posed, const Eigen::Vector3d& po
   return nearestSegment(segmentSurfaces(posed), point);
 }
 
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <vector>
 
-namespace body_gait {
+namespace body_gait_model {
 
 // The value with fraction * (n - 1) values below it (0.995: the far end but stray points).
 // Reorders values; values must not be empty.
@@ -29,4 +29,4 @@ inline Eigen::Vector3d componentMedian(const std::vector<Eigen::Vector3d>& point
   return median;
 }
 
-}  // namespace body_gait
+}  // namespace body_gait_model

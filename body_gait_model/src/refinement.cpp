@@ -9,7 +9,7 @@
 #include <cmath>
 #include <limits>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 struct AssignedPoint {
@@ -191,4 +191,4 @@ RefinementReport refineModel(BodyModel& model, const Cloud& cloud,
   return report;
 }
 
-}  // namespace body_gait
+}  // namespace body_gait_model

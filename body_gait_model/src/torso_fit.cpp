@@ -8,7 +8,7 @@
 
 #include "order_statistics.h"
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -183,4 +183,4 @@ TorsoFit fitTorso(const std::vector<Eigen::Vector3d>& model_points, const BodyAx
   return torso;
 }
 
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -4,7 +4,7 @@
 #include <iomanip>
 #include <sstream>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 std::string xyz(const Eigen::Vector3d& v) {
@@ -82,4 +82,4 @@ std::string modelUrdf(const BodyModel& model, const std::string& robot_name,
   return urdf.str();
 }
 
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -77,4 +77,4 @@ TEST(BodyAxes, RefusesCloudsThatCannotBeAStandingBody) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

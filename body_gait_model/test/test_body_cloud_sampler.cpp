@@ -7,7 +7,7 @@
 #include <cmath>
 #include <map>
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 namespace {
 
 TEST(BodyCloudSampler, FullRigSamplesHalfAMillionPointsCoveringEveryPart) {
@@ -29,7 +29,7 @@ TEST(BodyCloudSampler, FullRigSamplesHalfAMillionPointsCoveringEveryPart) {
   for (const char* part : {"head", "hair", "neck", "chest", "abdomen", "pelvis", "left_upper_arm",
                            "right_forearm", "left_hand", "right_thigh", "left_shank", "right_foot"})
     EXPECT_GT(per_surface[spec.name + "/" + part], 1000) << part << " is barely seen by the rig";
-  EXPECT_EQ(body.skeleton.size(), body_scan::sim::humanSkeleton(spec).size());
+  EXPECT_EQ(body.skeleton.size(), body_scan_driver::sim::humanSkeleton(spec).size());
 }
 
 TEST(BodyCloudSampler, NoiseHasTheRequestedSpreadAlongTheRays) {
@@ -74,7 +74,7 @@ TEST(BodyCloudSampler, GaitPosesMoveTheLimbsAsSection53Describes) {
   auto spec = simulatedSubjects(1).front();
   for (int index = 1; index <= 4; ++index) {
     spec.pose = gaitPose(index, 0.0);  // facing world +x
-    const auto skeleton = body_scan::sim::humanSkeleton(spec);
+    const auto skeleton = body_scan_driver::sim::humanSkeleton(spec);
     std::map<std::string, Eigen::Vector3d> joint;
     for (const auto& j : skeleton) joint[j.name] = j.position;
     const double right_ahead = joint["right_ankle"].x() - joint["left_ankle"].x();
@@ -93,4 +93,4 @@ TEST(BodyCloudSampler, GaitPosesMoveTheLimbsAsSection53Describes) {
 }
 
 }  // namespace
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval

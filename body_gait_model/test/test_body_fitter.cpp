@@ -8,7 +8,7 @@
 #include <chrono>
 #include <cmath>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -140,4 +140,4 @@ TEST(BodyFitter, ImplausibleLimbProportionsAreFlagged) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <optional>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -131,7 +131,7 @@ TEST_F(BodyFitterNode, RejectsEmptyAndNonWorldCloudsAndKeepsRunning) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model
 
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);

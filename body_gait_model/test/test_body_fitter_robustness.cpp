@@ -9,7 +9,7 @@
 #include <functional>
 #include <string>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -21,7 +21,7 @@ struct CaseResult {
 };
 
 CaseResult run(const std::string& name, const eval::ScanRig& rig,
-               const std::function<void(body_scan::sim::BodyPose&)>& adjust = {}) {
+               const std::function<void(body_scan_driver::sim::BodyPose&)>& adjust = {}) {
   CaseResult result;
   const auto subjects = eval::simulatedSubjects(4);
   for (int s : {1, 2}) {
@@ -118,4 +118,4 @@ TEST(BodyFitterRobustness, DarkHairKeepsTheStatureAndTheHipsHeight) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

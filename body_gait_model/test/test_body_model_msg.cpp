@@ -10,7 +10,7 @@
 #include <limits>
 #include <map>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 BodyModel posedModel() {
@@ -111,4 +111,4 @@ TEST(BodyModelMsg, ReadsCloudLayoutsAndRejectsBadOnes) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -11,10 +11,10 @@
 #include <cstdlib>
 #include <filesystem>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
-namespace sim = body_scan::sim;
+namespace sim = body_scan_driver::sim;
 constexpr double kPi = 3.14159265358979323846;
 
 std::string walkPath(const std::string& walk) {
@@ -66,4 +66,4 @@ TEST(BvhBodyFit, FourPosesOfARealWalkScannedAndFitted) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

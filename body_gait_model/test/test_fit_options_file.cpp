@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <fstream>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 std::string writeTemp(const std::string& text) {
@@ -57,4 +57,4 @@ TEST(FitOptionsFile, BadFilesAreClearErrors) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -11,7 +11,7 @@
 #include <map>
 #include <string>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -65,4 +65,4 @@ TEST(FullScannerFit, SubjectsInTheFourGaitPosesFromFullScannerClouds) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

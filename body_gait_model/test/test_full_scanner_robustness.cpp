@@ -11,14 +11,14 @@
 #include <functional>
 #include <string>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kTwiceTheTarget = 0.050;  // m
 
 void expectWithinTwiceTheTargets(
     const std::string& name, const eval::FullScannerOptions& options,
-    const std::function<void(body_scan::sim::HumanBodySpec&)>& adjust) {
+    const std::function<void(body_scan_driver::sim::HumanBodySpec&)>& adjust) {
   const auto subjects = eval::simulatedSubjects(10);
   double joint = 0;
   int unflagged = 0, right = 0, flagged = 0, cases = 0;
@@ -70,4 +70,4 @@ TEST(FullScannerRobustness, DarkHairAndTrunks) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -8,7 +8,7 @@
 #include <map>
 #include <string>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -229,4 +229,4 @@ TEST(SymmetricPoses, GaitSetsCombineTheThesisPoses) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -13,7 +13,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -105,4 +105,4 @@ TEST(GaitCycleFit, FittedCyclesFollowTheTrueCycles) {
 }
 
 }  // namespace
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <string>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 std::string temporaryPath(const std::string& name) {
@@ -98,4 +98,4 @@ TEST(GaitPosesFile, BadFilesNameTheProblem) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -9,7 +9,7 @@
 #include <set>
 #include <string>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 GaitCycle walkCycle() {
@@ -106,4 +106,4 @@ TEST(GaitSequenceMsg, FilmstripShowsEveryFrameSpacedAlongTheWalk) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

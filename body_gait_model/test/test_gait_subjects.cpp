@@ -11,7 +11,7 @@
 #include <functional>
 #include <vector>
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 namespace {
 
 struct Statistics {
@@ -175,4 +175,4 @@ TEST(GaitSubjects, BadArgumentsAreNamed) {
 }
 
 }  // namespace
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -168,4 +168,4 @@ TEST(KinematicModel, TaperedCylinderDistanceMatchesAnalyticCases) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <optional>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 TEST(PlayGaitCycle, PublishesTheSequenceAndPlaysItsFrames) {
@@ -70,7 +70,7 @@ TEST(PlayGaitCycle, PublishesTheSequenceAndPlaysItsFrames) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model
 
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <string>
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 namespace {
 
-namespace sim = body_scan::sim;
+namespace sim = body_scan_driver::sim;
 constexpr double kDegree = 3.14159265358979323846 / 180;
 
 SampledBody unsampled(const sim::HumanBodySpec& spec) {
@@ -93,4 +93,4 @@ TEST(SkeletonModel, AMissingJointIsNamed) {
 }
 
 }  // namespace
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -100,4 +100,4 @@ TEST(TorsoFit, DarkTrunksLeaveTheLowerTorsoDirectionNearTheTruth) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

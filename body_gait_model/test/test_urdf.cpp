@@ -7,7 +7,7 @@
 #include <map>
 #include <sstream>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 Eigen::Vector3d parseVector(const char* text) {
@@ -96,4 +96,4 @@ TEST(Urdf, IsATreeThatPosesLikeForwardKinematics) {
 }
 
 }  // namespace
-}  // namespace body_gait
+}  // namespace body_gait_model

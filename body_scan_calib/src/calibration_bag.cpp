@@ -9,14 +9,14 @@
 #include <map>
 #include <set>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 std::vector<cv::Mat> patternFrames(const body_scan_msgs::PatternSet& set) {
   const std::string scan =
       "pattern set of scan " + std::to_string(set.scan_id) + " (" + set.pair_id + ")";
   if (set.bits < 1 || set.bits > 10)
     throw CalibrationBagError(scan + ": bits " + std::to_string(set.bits) + " is not in 1..10");
-  const PatternLayout layout(set.bits, set.inverse_frames);
+  const body_scan_driver::PatternLayout layout(set.bits, set.inverse_frames);
   if (static_cast<int>(set.frames.size()) != layout.frameCount())
     throw CalibrationBagError(scan + " has " + std::to_string(set.frames.size()) + " frames; " +
                               std::to_string(set.bits) + " bits" +
@@ -127,4 +127,4 @@ BagConversionResult bagToCalibrationFolder(
   return result;
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

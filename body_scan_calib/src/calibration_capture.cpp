@@ -9,7 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 int removeOldCaptures(const std::string& folder) {
   int removed = 0;
@@ -20,7 +20,7 @@ int removeOldCaptures(const std::string& folder) {
     const bool pose = name.size() == 7 && name.rfind("pose_", 0) == 0 &&
                       std::isdigit(static_cast<unsigned char>(name[5])) &&
                       std::isdigit(static_cast<unsigned char>(name[6]));
-    if (entry.is_directory() && (pose || name == calib::kSphereFolderName)) {
+    if (entry.is_directory() && (pose || name == body_scan_calib::kSphereFolderName)) {
       std::filesystem::remove_all(entry.path());
       ++removed;
     }
@@ -37,4 +37,4 @@ std::vector<std::vector<size_t>> groupConsecutiveScanIds(const std::vector<uint3
   return groups;
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

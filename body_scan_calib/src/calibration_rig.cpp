@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 namespace {
 
 // Full precision: the scene the driver parses must be the rig's scene to the last bit.
@@ -99,9 +99,9 @@ std::vector<cv::Mat> averageCaptures(const std::vector<std::vector<cv::Mat>>& ca
 }
 
 // Removes FOLDER/pose_NN and FOLDER/spheres (only the capture layout's own folders).
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib
 
-namespace body_scan::calib::rig {
+namespace body_scan_calib::rig {
 namespace {
 
 // Board centre (camera frame, metres), tilts about the camera's x and y axes and an in-plane
@@ -137,11 +137,11 @@ std::vector<Eigen::Isometry3d> defaultBoardPoses() {
           boardPose(0.0, -0.06, 1.15, 0, 15, 12)};
 }
 
-std::shared_ptr<sim::Scene> boardScene(const Checkerboard& board,
-                                       const Eigen::Isometry3d& board_center_in_camera,
-                                       const Eigen::Isometry3d& world_from_camera) {
-  return std::make_shared<sim::Scene>(
-      sim::parseScene(boardSceneYaml(board, board_center_in_camera, world_from_camera)));
+std::shared_ptr<body_scan_driver::sim::Scene> boardScene(
+    const Checkerboard& board, const Eigen::Isometry3d& board_center_in_camera,
+    const Eigen::Isometry3d& world_from_camera) {
+  return std::make_shared<body_scan_driver::sim::Scene>(body_scan_driver::sim::parseScene(
+      boardSceneYaml(board, board_center_in_camera, world_from_camera)));
 }
 
 std::vector<Eigen::Vector3d> defaultSphereCenters() {
@@ -152,13 +152,14 @@ std::vector<Eigen::Vector3d> defaultSphereCenters() {
           {0.30, 0.22, 1.00}};
 }
 
-std::shared_ptr<sim::Scene> sphereScene(const std::vector<Eigen::Vector3d>& centers_in_camera,
-                                        double radius, const Eigen::Isometry3d& world_from_camera) {
-  return std::make_shared<sim::Scene>(
-      sim::parseScene(sphereSceneYaml(centers_in_camera, radius, world_from_camera)));
+std::shared_ptr<body_scan_driver::sim::Scene> sphereScene(
+    const std::vector<Eigen::Vector3d>& centers_in_camera, double radius,
+    const Eigen::Isometry3d& world_from_camera) {
+  return std::make_shared<body_scan_driver::sim::Scene>(body_scan_driver::sim::parseScene(
+      sphereSceneYaml(centers_in_camera, radius, world_from_camera)));
 }
 
-std::vector<cv::Mat> captureAveraged(const sim::VirtualPair& pair, int exposures,
+std::vector<cv::Mat> captureAveraged(const body_scan_driver::sim::VirtualPair& pair, int exposures,
                                      uint32_t first_scan_id) {
   if (exposures < 1)
     throw std::invalid_argument("exposures must be >= 1 (got " + std::to_string(exposures) + ")");
@@ -168,4 +169,4 @@ std::vector<cv::Mat> captureAveraged(const sim::VirtualPair& pair, int exposures
   return averageCaptures(captures);
 }
 
-}  // namespace body_scan::calib::rig
+}  // namespace body_scan_calib::rig

@@ -12,17 +12,18 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 namespace {
 
 // Intrinsic parameter block of the refinement, in the order of CameraCalibrationResult::std_devs.
 enum Intrinsic { kAlpha, kBeta, kGamma, kU0, kV0, kK1, kK2, kIntrinsicCount };
 
-std::array<double, kIntrinsicCount> toIntrinsics(const PinholeCamera& c) {
+std::array<double, kIntrinsicCount> toIntrinsics(const body_scan_driver::PinholeCamera& c) {
   return {c.alpha, c.beta, c.gamma, c.u0, c.v0, c.k1, c.k2};
 }
 
-void fromIntrinsics(const std::array<double, kIntrinsicCount>& p, PinholeCamera& c) {
+void fromIntrinsics(const std::array<double, kIntrinsicCount>& p,
+                    body_scan_driver::PinholeCamera& c) {
   c.alpha = p[kAlpha], c.beta = p[kBeta], c.gamma = p[kGamma], c.u0 = p[kU0], c.v0 = p[kV0];
   c.k1 = p[kK1], c.k2 = p[kK2];
 }
@@ -154,7 +155,8 @@ struct RefinementOutcome {
 // reprojection error over all intrinsics and poses with Levenberg-Marquardt. With
 // refine_intrinsics false only the poses move (PnP refinement). Standard deviations of the
 // intrinsics come from (J^T J)^-1 s^2 at the optimum, s^2 = SSR / (observations - parameters).
-RefinementOutcome refine(PinholeCamera& camera, std::vector<Eigen::Isometry3d>& poses,
+RefinementOutcome refine(body_scan_driver::PinholeCamera& camera,
+                         std::vector<Eigen::Isometry3d>& poses,
                          const std::vector<std::vector<Eigen::Vector2d>>& corners,
                          const std::vector<Eigen::Vector3d>& board_points,
                          const RefinementSettings& settings) {
@@ -240,7 +242,8 @@ RefinementOutcome refine(PinholeCamera& camera, std::vector<Eigen::Isometry3d>& 
   return outcome;
 }
 
-double squaredReprojectionError(const PinholeCamera& camera, const Eigen::Isometry3d& pose,
+double squaredReprojectionError(const body_scan_driver::PinholeCamera& camera,
+                                const Eigen::Isometry3d& pose,
                                 const std::vector<Eigen::Vector2d>& corners,
                                 const std::vector<Eigen::Vector3d>& board_points) {
   double sum = 0;
@@ -401,7 +404,8 @@ ClosedFormCalibration zhangClosedForm(const std::vector<Eigen::Matrix3d>& homogr
 }
 
 Eigen::Vector2d estimateRadialDistortion(
-    const PinholeCamera& camera, const std::vector<Eigen::Isometry3d>& board_to_camera,
+    const body_scan_driver::PinholeCamera& camera,
+    const std::vector<Eigen::Isometry3d>& board_to_camera,
     const std::vector<std::vector<Eigen::Vector2d>>& image_corners_per_view,
     const Checkerboard& board) {
   const std::vector<Eigen::Vector3d> board_points = board.objectPoints();
@@ -487,7 +491,7 @@ CameraCalibrationResult calibrateCamera(
   return result;
 }
 
-Eigen::Isometry3d estimateBoardPose(const PinholeCamera& camera,
+Eigen::Isometry3d estimateBoardPose(const body_scan_driver::PinholeCamera& camera,
                                     const std::vector<Eigen::Vector2d>& corners,
                                     const Checkerboard& board) {
   const size_t expected = static_cast<size_t>(board.inner_cols) * board.inner_rows;
@@ -500,11 +504,11 @@ Eigen::Isometry3d estimateBoardPose(const PinholeCamera& camera,
     normalized.push_back(camera.normalizedPoint(corner));
   const Eigen::Matrix3d h = estimateHomography(planeXY(board), normalized);
   std::vector<Eigen::Isometry3d> poses{poseFromHomography(Eigen::Matrix3d::Identity(), h)};
-  PinholeCamera fixed = camera;
+  body_scan_driver::PinholeCamera fixed = camera;
   RefinementSettings settings;
   settings.refine_intrinsics = false;
   refine(fixed, poses, {corners}, board.objectPoints(), settings);
   return poses.front();
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -3,7 +3,7 @@
 #include <body_scan_driver/calibration_file.h>
 #include <yaml-cpp/yaml.h>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 std::string cameraCalibrationYaml(const CameraCalibrationReport& report) {
   YAML::Node info;
@@ -38,20 +38,20 @@ std::string cameraCalibrationYaml(const CameraCalibrationReport& report) {
 
 void saveCameraCalibration(const std::string& path, const CameraCalibrationReport& report) {
   try {
-    writeFileAtomically(path, cameraCalibrationYaml(report));
-  } catch (const FileWriteError& e) {
+    body_scan_driver::writeFileAtomically(path, cameraCalibrationYaml(report));
+  } catch (const body_scan_driver::FileWriteError& e) {
     throw CameraCalibrationError(e.what());
   }
 }
 
-PinholeCamera loadCameraCalibration(const std::string& path) {
+body_scan_driver::PinholeCamera loadCameraCalibration(const std::string& path) {
   try {
-    return loadCameraPart(path);
-  } catch (const CalibrationFileError& e) {
+    return body_scan_driver::loadCameraPart(path);
+  } catch (const body_scan_driver::CalibrationFileError& e) {
     throw CameraCalibrationError(std::string(e.what()) +
                                  " (recalibrate with calibrate_camera --images DIR ... --output " +
                                  path + ")");
   }
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

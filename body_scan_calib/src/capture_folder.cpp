@@ -6,7 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 namespace fs = std::filesystem;
 namespace {
 
@@ -29,7 +29,7 @@ void writePngAtomically(const std::string& path, const cv::Mat& image) {
   if (image.empty() || !cv::imencode(".png", image, png))
     throw std::runtime_error("cannot encode " + path +
                              " as PNG: it must be a non-empty 8-bit image");
-  writeFileAtomically(path, std::string(png.begin(), png.end()));
+  body_scan_driver::writeFileAtomically(path, std::string(png.begin(), png.end()));
 }
 
 void savePatternFrames(const std::string& folder, const std::vector<cv::Mat>& frames) {
@@ -37,7 +37,8 @@ void savePatternFrames(const std::string& folder, const std::vector<cv::Mat>& fr
     writePngAtomically((fs::path(folder) / frameName(f)).string(), frames[f]);
 }
 
-std::vector<cv::Mat> loadPatternFrames(const std::string& folder, const PatternLayout& layout) {
+std::vector<cv::Mat> loadPatternFrames(const std::string& folder,
+                                       const body_scan_driver::PatternLayout& layout) {
   std::vector<cv::Mat> frames;
   for (int f = 0; f < layout.frameCount(); ++f) {
     const fs::path file = fs::path(folder) / frameName(f);
@@ -53,7 +54,7 @@ std::vector<cv::Mat> loadPatternFrames(const std::string& folder, const PatternL
 }
 
 std::vector<std::vector<cv::Mat>> loadPoseCaptures(const std::string& folder,
-                                                   const PatternLayout& layout) {
+                                                   const body_scan_driver::PatternLayout& layout) {
   std::vector<std::vector<cv::Mat>> poses;
   for (int pose = 0;; ++pose) {
     const fs::path path = fs::path(folder) / poseFolderName(pose);
@@ -67,4 +68,4 @@ std::vector<std::vector<cv::Mat>> loadPoseCaptures(const std::string& folder,
   return poses;
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

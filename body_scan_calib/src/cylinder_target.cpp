@@ -7,7 +7,7 @@
 #include <opencv2/aruco.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 constexpr double kMinAspect = 0.5;  // cos 60 deg
 constexpr double kMinCornerEigenRatio = 0.15;
@@ -32,9 +32,9 @@ bool looksLikeCorner(const cv::Mat& gray, const Eigen::Vector2d& pixel, int half
   return mean > 0 && (mean - spread) > kMinCornerEigenRatio * (mean + spread);
 }
 
-std::vector<GridPointDetection> detectCylinderGridPoints(const cv::Mat& gray,
-                                                         const CalibrationCylinderLayout& layout,
-                                                         CylinderDetectionStats* stats) {
+std::vector<GridPointDetection> detectCylinderGridPoints(
+    const cv::Mat& gray, const body_scan_driver::CalibrationCylinderLayout& layout,
+    CylinderDetectionStats* stats) {
   CylinderDetectionStats local_stats;
   CylinderDetectionStats& counts = stats ? *stats : local_stats;
   counts = {};
@@ -125,9 +125,9 @@ std::vector<GridPointDetection> detectCylinderGridPoints(const cv::Mat& gray,
   return detections;
 }
 
-std::optional<Eigen::Vector3d> triangulateAtPixel(const cv::Mat1f& stripe_coordinate,
-                                                  const Eigen::Vector2d& pixel,
-                                                  const PairCalibration& calibration, int radius) {
+std::optional<Eigen::Vector3d> triangulateAtPixel(
+    const cv::Mat1f& stripe_coordinate, const Eigen::Vector2d& pixel,
+    const body_scan_driver::PairCalibration& calibration, int radius) {
   const int centre_u = static_cast<int>(std::lround(pixel.x())),
             centre_v = static_cast<int>(std::lround(pixel.y()));
   std::vector<Eigen::Vector3d> rows;
@@ -153,14 +153,15 @@ std::optional<Eigen::Vector3d> triangulateAtPixel(const cv::Mat1f& stripe_coordi
   if (!(rms < 0.5)) return std::nullopt;  // stripes: a decoding error or a depth edge nearby
   const Eigen::Vector4d plane = calibration.projector.planeAt(fit[0]);
   if (!plane.allFinite()) return std::nullopt;
-  const Eigen::Vector3d point = intersectRayPlane(calibration.camera.normalizedPoint(pixel), plane);
+  const Eigen::Vector3d point =
+      body_scan_driver::intersectRayPlane(calibration.camera.normalizedPoint(pixel), plane);
   if (!point.allFinite()) return std::nullopt;
   return point;
 }
 
 CylinderObservation observeCylinder(const cv::Mat& gray, const cv::Mat1f& stripe_coordinate,
-                                    const PairCalibration& calibration,
-                                    const CalibrationCylinderLayout& layout) {
+                                    const body_scan_driver::PairCalibration& calibration,
+                                    const body_scan_driver::CalibrationCylinderLayout& layout) {
   if (gray.size() != stripe_coordinate.size())
     throw std::invalid_argument(
         "cylinder observation: the image and the decoded stripe image "
@@ -173,4 +174,4 @@ CylinderObservation observeCylinder(const cv::Mat& gray, const cv::Mat1f& stripe
   return observation;
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 namespace {
 
 // Intrinsics block: alpha, beta, gamma, u0, v0, k1, k2 (eqs 3.1, 3.3).
@@ -93,7 +93,7 @@ JointRefinementResult refineJointly(const JointRefinementInput& input) {
     throw std::invalid_argument(
         "joint refinement needs the initial planes and one corner set per board pose");
   const ProjectorCalibrationResult& planes = *input.planes;
-  const PinholeCamera& camera = input.camera;
+  const body_scan_driver::PinholeCamera& camera = input.camera;
   double intrinsics[7] = {camera.alpha, camera.beta, camera.gamma, camera.u0,
                           camera.v0,    camera.k1,   camera.k2};
   std::vector<std::array<double, 6>> poses(input.board_to_camera.size());
@@ -188,4 +188,4 @@ JointRefinementResult refineJointly(const JointRefinementInput& input) {
   return result;
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

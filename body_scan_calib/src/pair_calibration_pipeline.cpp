@@ -9,14 +9,14 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::vector<Eigen::Vector3d> triangulateCloud(const PairCalibration& calibration,
+std::vector<Eigen::Vector3d> triangulateCloud(const body_scan_driver::PairCalibration& calibration,
                                               const cv::Mat1f& coordinate) {
-  const Triangulator triangulator(calibration);
+  const body_scan_driver::Triangulator triangulator(calibration);
   std::vector<float> xyz(coordinate.total() * 3);
   triangulator.triangulate(coordinate, xyz.data(), 3);
   std::vector<Eigen::Vector3d> cloud;
@@ -59,8 +59,8 @@ CameraAndBoardPoses estimateCameraAndBoardPoses(const std::vector<cv::Mat>& boar
   return result;
 }
 
-cv::Mat1b boardRegion(const PinholeCamera& camera, const Eigen::Isometry3d& board_to_camera,
-                      const Checkerboard& board) {
+cv::Mat1b boardRegion(const body_scan_driver::PinholeCamera& camera,
+                      const Eigen::Isometry3d& board_to_camera, const Checkerboard& board) {
   // Outline sampled densely so that lens distortion bends it like the image.
   const double s = board.square_size;
   const Eigen::Vector2d low(-0.5 * s, -0.5 * s);
@@ -83,7 +83,7 @@ cv::Mat1b boardRegion(const PinholeCamera& camera, const Eigen::Isometry3d& boar
 }
 
 PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& pose_frames,
-                                     const PatternLayout& layout,
+                                     const body_scan_driver::PatternLayout& layout,
                                      const PairCalibrationOptions& options,
                                      const Progress& progress) {
   auto report = [&](const std::string& message) {
@@ -102,16 +102,16 @@ PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& po
       throw PairCalibrationError("reference-plane pose " + std::to_string(pose) + ": " +
                                  error.what());
     }
-    board_images.push_back(pose_frames[pose][PatternLayout::litFrame()]);
+    board_images.push_back(pose_frames[pose][body_scan_driver::PatternLayout::litFrame()]);
   }
   report("camera: corners of " + std::to_string(board_images.size()) + " poses");
   outcome.camera = estimateCameraAndBoardPoses(board_images, options.board);
   report("camera: reprojection rms " + std::to_string(outcome.camera.rms_px) + " px");
 
-  const StripeDecoder decoder(layout);
+  const body_scan_driver::StripeDecoder decoder(layout);
   std::vector<ReferencePlaneObservation> observations;
   for (size_t pose = 0; pose < pose_frames.size(); ++pose) {
-    StripeImage stripes;
+    body_scan_driver::StripeImage stripes;
     decoder.decode(pose_frames[pose], stripes);
     observations.push_back(
         {outcome.camera.board_to_camera[pose], stripes.coordinate.clone(),
@@ -188,15 +188,15 @@ double AccuracyEvaluation::improvementPercent() const {
   return 100.0 * (meanPinholeEs() - meanPlaneEs()) / meanPinholeEs();
 }
 
-AccuracyEvaluation evaluateSphereAccuracy(const PairCalibration& plane_model,
-                                          const PairCalibration& pinhole_model,
+AccuracyEvaluation evaluateSphereAccuracy(const body_scan_driver::PairCalibration& plane_model,
+                                          const body_scan_driver::PairCalibration& pinhole_model,
                                           const std::vector<cv::Mat>& frames,
-                                          const PatternLayout& layout,
+                                          const body_scan_driver::PatternLayout& layout,
                                           const std::vector<Eigen::Vector3d>& nominal_centers,
                                           const std::vector<Eigen::Vector3d>& true_centers,
                                           double radius, int exposures) {
-  StripeImage stripes;
-  StripeDecoder(layout).decode(frames, stripes);
+  body_scan_driver::StripeImage stripes;
+  body_scan_driver::StripeDecoder(layout).decode(frames, stripes);
   AccuracyEvaluation evaluation;
   evaluation.exposures = exposures;
   evaluation.radius_m = radius;
@@ -275,7 +275,7 @@ std::string accuracyReportYaml(const PairCalibrationOutcome& outcome,
   out << YAML::Key << "notes" << YAML::Value << YAML::BeginSeq;
   for (const std::string& note : notes) out << note;
   out << YAML::EndSeq;
-  const PinholeCamera& camera = outcome.calibration.camera;
+  const body_scan_driver::PinholeCamera& camera = outcome.calibration.camera;
   out << YAML::Key << "camera" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "reference_plane_poses" << YAML::Value
       << outcome.camera.board_to_camera.size();
@@ -312,4 +312,4 @@ std::string accuracyReportYaml(const PairCalibrationOutcome& outcome,
   return std::string(out.c_str()) + "\n";
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

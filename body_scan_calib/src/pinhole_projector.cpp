@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 double PinholeProjector::stripeAt(const Eigen::Vector3d& point) const {
   const Eigen::Vector2d projected = projection * point.homogeneous();
@@ -15,8 +15,8 @@ Eigen::Vector4d PinholeProjector::planeAt(double stripe_coordinate) const {
   return (projection.row(0) - stripe_coordinate * projection.row(1)).transpose();
 }
 
-StripePlaneProjector PinholeProjector::toStripePlanes(int stripe_count) const {
-  StripePlaneProjector planes;
+body_scan_driver::StripePlaneProjector PinholeProjector::toStripePlanes(int stripe_count) const {
+  body_scan_driver::StripePlaneProjector planes;
   for (int i = 0; i < stripe_count; ++i) planes.planes.push_back(planeAt(i + 0.5));
   // One overall sign so the planes face like the fitted ones (orientation of the suite).
   const Eigen::Vector4d& middle = planes.planes[stripe_count / 2];
@@ -136,4 +136,4 @@ PinholeProjectorFit estimatePinholeProjector(const std::vector<Eigen::Vector3d>&
   return fit;
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

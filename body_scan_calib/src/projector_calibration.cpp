@@ -6,7 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -69,7 +69,7 @@ Eigen::Matrix<double, 4, 3> imageToCameraTransform(const Eigen::Isometry3d& boar
   return transform;
 }
 
-std::vector<Eigen::Vector3d> liftStripePixels(const PinholeCamera& camera,
+std::vector<Eigen::Vector3d> liftStripePixels(const body_scan_driver::PinholeCamera& camera,
                                               const Eigen::Isometry3d& board_to_camera,
                                               const std::vector<StripeCentreSample>& samples) {
   const Eigen::Matrix<double, 4, 3> transform = imageToCameraTransform(board_to_camera);
@@ -105,7 +105,8 @@ Eigen::Vector4d orientPlane(const Eigen::Vector4d& plane) {
 }
 
 ProjectorCalibrationResult calibrateStripePlanes(
-    const PinholeCamera& camera, const std::vector<ReferencePlaneObservation>& observations,
+    const body_scan_driver::PinholeCamera& camera,
+    const std::vector<ReferencePlaneObservation>& observations,
     const ProjectorCalibrationOptions& options) {
   if (observations.size() < 3)
     throw std::invalid_argument("projector calibration needs at least 3 reference-plane poses (" +
@@ -169,4 +170,4 @@ ProjectorCalibrationResult calibrateStripePlanes(
   return result;
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

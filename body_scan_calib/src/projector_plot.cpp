@@ -8,7 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 namespace {
 
 constexpr int kWidth = 900, kPanelHeight = 260, kLeft = 90, kRight = 20, kTop = 30, kBottom = 40;
@@ -19,12 +19,14 @@ std::string format(double value) {
   return text;
 }
 
-void drawPanel(cv::Mat& image, int panel, const std::string& title, int stripes,
-               const std::function<double(const StripePlaneProjector&, int)>& value,
-               const StripePlaneProjector& estimated, const StripePlaneProjector* reference) {
+void drawPanel(
+    cv::Mat& image, int panel, const std::string& title, int stripes,
+    const std::function<double(const body_scan_driver::StripePlaneProjector&, int)>& value,
+    const body_scan_driver::StripePlaneProjector& estimated,
+    const body_scan_driver::StripePlaneProjector* reference) {
   const int top = panel * kPanelHeight + kTop, bottom = (panel + 1) * kPanelHeight - kBottom;
   double low = std::numeric_limits<double>::infinity(), high = -low;
-  for (const StripePlaneProjector* source : {&estimated, reference}) {
+  for (const body_scan_driver::StripePlaneProjector* source : {&estimated, reference}) {
     if (!source) continue;
     for (int i = 0; i < source->stripeCount(); ++i) {
       const double y = value(*source, i);
@@ -87,28 +89,30 @@ void drawPanel(cv::Mat& image, int panel, const std::string& title, int stripes,
 
 }  // namespace
 
-cv::Mat plotProjectorParameters(const StripePlaneProjector& estimated,
-                                const StripePlaneProjector* reference) {
+cv::Mat plotProjectorParameters(const body_scan_driver::StripePlaneProjector& estimated,
+                                const body_scan_driver::StripePlaneProjector* reference) {
   cv::Mat image(3 * kPanelHeight + 30, kWidth, CV_8UC3, cv::Scalar(255, 255, 255));
   const int stripes = estimated.stripeCount();
-  auto parameters = [](const StripePlaneProjector& projector, int i) {
+  auto parameters = [](const body_scan_driver::StripePlaneProjector& projector, int i) {
     const Eigen::Vector4d& plane = projector.planes[i];
     return plane.allFinite() ? projector.explicitParameters(i)
-                             : StripePlaneProjector::Explicit{NAN, NAN, NAN};
+                             : body_scan_driver::StripePlaneProjector::Explicit{NAN, NAN, NAN};
   };
   drawPanel(
       image, 0, "(a) baseline l_i [mm] (eq 3.6)", stripes,
-      [&](const StripePlaneProjector& p, int i) { return 1e3 * parameters(p, i).baseline; },
+      [&](const body_scan_driver::StripePlaneProjector& p, int i) {
+        return 1e3 * parameters(p, i).baseline;
+      },
       estimated, reference);
   drawPanel(
       image, 1, "(b) projection angle theta_i [deg] (eq 3.7)", stripes,
-      [&](const StripePlaneProjector& p, int i) {
+      [&](const body_scan_driver::StripePlaneProjector& p, int i) {
         return parameters(p, i).projection_angle * 180 / M_PI;
       },
       estimated, reference);
   drawPanel(
       image, 2, "(c) tilt angle phi_i [deg] (eq 3.8)", stripes,
-      [&](const StripePlaneProjector& p, int i) {
+      [&](const body_scan_driver::StripePlaneProjector& p, int i) {
         return parameters(p, i).tilt_angle * 180 / M_PI;
       },
       estimated, reference);
@@ -124,4 +128,4 @@ cv::Mat plotProjectorParameters(const StripePlaneProjector& estimated,
   return image;
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

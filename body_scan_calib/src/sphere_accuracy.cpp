@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 IdealSphereFit fitIdealSphere(const std::vector<Eigen::Vector3d>& points, double radius) {
   const size_t count = points.size();
@@ -62,4 +62,4 @@ std::vector<std::vector<Eigen::Vector3d>> segmentSpheres(
   return spheres;
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

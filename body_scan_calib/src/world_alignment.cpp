@@ -5,7 +5,7 @@
 #include <cmath>
 #include <set>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 namespace {
 
 // Plain least squares of eq 4.1 over all the given points.
@@ -43,7 +43,7 @@ AffineFit fitLeastSquares(const std::vector<Eigen::Vector3d>& camera_points,
   fit.affine.leftCols<3>() = linear_transposed.transpose();
   fit.affine.col(3) = world_mean - fit.affine.leftCols<3>() * camera_mean;
   try {
-    fit.alignment = WorldAlignment::fromAffine(fit.affine);
+    fit.alignment = body_scan_driver::WorldAlignment::fromAffine(fit.affine);
   } catch (const std::invalid_argument& e) {
     throw WorldAlignmentError(e.what());
   }
@@ -143,4 +143,4 @@ SharedPointAccuracy evaluateSharedPoints(const std::vector<AlignedPair>& pairs) 
   return accuracy;
 }
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -8,11 +8,11 @@
 #include <random>
 #include <vector>
 
-namespace body_scan::calib::test {
+namespace body_scan_calib::test {
 
 // The simulator's camera (sim::VirtualPairConfig's default): the truth of the simulated checks.
-inline PinholeCamera simulatorCamera() {
-  return PinholeCamera{640, 480, 810, 810, 0, 319.5, 239.5, -0.08, 0.03};
+inline body_scan_driver::PinholeCamera simulatorCamera() {
+  return body_scan_driver::PinholeCamera{640, 480, 810, 810, 0, 319.5, 239.5, -0.08, 0.03};
 }
 
 // Board pose that puts the board's centre at `center` (camera frame, metres), rotated by
@@ -43,7 +43,7 @@ inline std::vector<Eigen::Isometry3d> threeSpreadPoses(const Checkerboard& board
 // 2D displacement has an RMS of `rms_noise` px (sigma rms_noise / sqrt(2) per axis), the same
 // measure as the reprojection RMS (root mean squared corner distance, as OpenCV reports it).
 inline std::vector<std::vector<Eigen::Vector2d>> projectCorners(
-    const PinholeCamera& camera, const Checkerboard& board,
+    const body_scan_driver::PinholeCamera& camera, const Checkerboard& board,
     const std::vector<Eigen::Isometry3d>& poses, double rms_noise, unsigned seed) {
   const double sigma = rms_noise / std::sqrt(2.0);
   std::mt19937 random(seed);
@@ -61,4 +61,4 @@ inline std::vector<std::vector<Eigen::Vector2d>> projectCorners(
   return views;
 }
 
-}  // namespace body_scan::calib::test
+}  // namespace body_scan_calib::test

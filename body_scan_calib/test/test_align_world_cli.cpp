@@ -42,8 +42,8 @@ TEST(AlignWorldCli, LiveThenOfflineFromTheSavedImages) {
   EXPECT_LE(live["E_h"]["mean_mm"].as<double>(), 1.0);
   EXPECT_GT(fs::file_size(live_out + "/report.png"), 10000u) << "the plot next to the report";
   for (const char* stem : {"pole_a_pair_1", "pole_a_pair_2", "pole_b_pair_1", "pole_b_pair_2"}) {
-    const body_scan::PairCalibration calibration =
-        body_scan::loadCalibration(live_out + "/" + stem + ".yaml");
+    const body_scan_driver::PairCalibration calibration =
+        body_scan_driver::loadCalibration(live_out + "/" + stem + ".yaml");
     EXPECT_TRUE(calibration.alignment.has_value()) << stem;
     EXPECT_TRUE(fs::exists(images + "/" + stem + "/frame_17.png")) << stem;
   }
@@ -56,7 +56,7 @@ TEST(AlignWorldCli, LiveThenOfflineFromTheSavedImages) {
   const YAML::Node offline = YAML::LoadFile(offline_out + "/report.yaml");
   EXPECT_EQ(offline["E_h"]["shared_points"].as<int>(), live["E_h"]["shared_points"].as<int>());
   EXPECT_EQ(offline["E_h"]["mean_mm"].as<std::string>(), live["E_h"]["mean_mm"].as<std::string>());
-  EXPECT_TRUE(body_scan::loadCalibration(offline_out + "/pole_b_pair_2.yaml").alignment);
+  EXPECT_TRUE(body_scan_driver::loadCalibration(offline_out + "/pole_b_pair_2.yaml").alignment);
 
   std::string errors;
   EXPECT_EQ(runAlignWorld("--images " + (root / "missing").string(), &errors), 1);

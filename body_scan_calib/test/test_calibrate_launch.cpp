@@ -17,7 +17,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-using namespace body_scan;
+using namespace body_scan_driver;
 namespace fs = std::filesystem;
 
 namespace {
@@ -92,10 +92,12 @@ TEST(CalibrateLaunch, WritesACalibrationWhosePlanesMatchTheTruePlanes) {
   ASSERT_TRUE(waitForFiles(files, start, timeout))
       << "calibrate.launch wrote no fresh " << calibration_file << " + report + plot within "
       << timeout << " s";
-  const PairCalibration estimated = loadCalibration(calibration_file);
-  const PairCalibration truth = sim::VirtualPair(sim::loadVirtualPairConfig(param("pair_file")),
-                                                 std::make_shared<sim::Scene>())
-                                    .factoryCalibration();
+  const body_scan_driver::PairCalibration estimated = loadCalibration(calibration_file);
+  const body_scan_driver::PairCalibration truth =
+      body_scan_driver::sim::VirtualPair(
+          body_scan_driver::sim::loadVirtualPairConfig(param("pair_file")),
+          std::make_shared<body_scan_driver::sim::Scene>())
+          .factoryCalibration();
   ASSERT_EQ(estimated.projector.stripeCount(), truth.projector.stripeCount());
   double worst_angle = 0, mean_angle = 0, worst_offset = 0;
   int fitted = 0;
@@ -134,17 +136,18 @@ TEST(CalibrateLaunch, RecordedBagConvertsToTheCapturedFolder) {
   ASSERT_TRUE(waitForFiles({bag, param("plot_file")}, start, 240));
   const fs::path converted = fs::path(bag).parent_path() / "converted_from_bag";
   fs::remove_all(converted);
-  const calib::BagConversionResult result =
-      calib::bagToCalibrationFolder(bag, converted.string(), {});
-  const size_t poses = calib::rig::defaultBoardPoses().size();
+  const body_scan_calib::BagConversionResult result =
+      body_scan_calib::bagToCalibrationFolder(bag, converted.string(), {});
+  const size_t poses = body_scan_calib::rig::defaultBoardPoses().size();
   ASSERT_EQ(result.folders.size(), poses);  // the rig's poses, no spheres in this test
   int compared = 0, differing = 0;
-  const PatternLayout layout(8, true);
+  const body_scan_driver::PatternLayout layout(8, true);
   for (int pose = 0; pose < static_cast<int>(result.folders.size()); ++pose) {
-    const std::string name = calib::poseFolderName(pose);
-    const std::vector<cv::Mat> live = calib::loadPatternFrames(images + "/" + name, layout);
+    const std::string name = body_scan_calib::poseFolderName(pose);
+    const std::vector<cv::Mat> live =
+        body_scan_calib::loadPatternFrames(images + "/" + name, layout);
     const std::vector<cv::Mat> offline =
-        calib::loadPatternFrames((converted / name).string(), layout);
+        body_scan_calib::loadPatternFrames((converted / name).string(), layout);
     ASSERT_EQ(live.size(), offline.size()) << name;
     for (size_t f = 0; f < live.size(); ++f, ++compared) {
       ASSERT_EQ(live[f].size(), offline[f].size()) << name << " frame " << f;

@@ -14,14 +14,15 @@
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 
-using namespace body_scan;
+using namespace body_scan_driver;
 namespace fs = std::filesystem;
 
 namespace {
 
-sim::VirtualPairConfig smallPair() {
-  sim::VirtualPairConfig config;  // a posed pair, so the scene's world transform matters
-  config.world_from_camera = sim::cameraPose({1.0, 0.2, 1.25}, M_PI, 0.1);
+body_scan_driver::sim::VirtualPairConfig smallPair() {
+  body_scan_driver::sim::VirtualPairConfig
+      config;  // a posed pair, so the scene's world transform matters
+  config.world_from_camera = body_scan_driver::sim::cameraPose({1.0, 0.2, 1.25}, M_PI, 0.1);
   return config;
 }
 
@@ -44,71 +45,74 @@ fs::path freshFolder(const std::string& name) {
 // The rig's targets are defined once, as scene-file text (what ~set_scene receives); these
 // scenes, built here from simulator objects as the rig intends them, must render identically.
 TEST(CalibrationCapture, BoardSceneFileRendersTheBoardOnItsPanel) {
-  const sim::VirtualPairConfig config = smallPair();
-  const calib::Checkerboard board = calib::referenceBoard();
-  const Eigen::Isometry3d pose = calib::rig::defaultBoardPoses()[2];
+  const body_scan_driver::sim::VirtualPairConfig config = smallPair();
+  const body_scan_calib::Checkerboard board = body_scan_calib::referenceBoard();
+  const Eigen::Isometry3d pose = body_scan_calib::rig::defaultBoardPoses()[2];
   const Eigen::Isometry3d world_from_board = config.world_from_camera * pose;
   const Eigen::Vector3d facing_camera = -world_from_board.linear().col(2);
-  auto intended = std::make_shared<sim::Scene>();
-  intended->add(std::make_unique<sim::CheckerboardPlane>(
+  auto intended = std::make_shared<body_scan_driver::sim::Scene>();
+  intended->add(std::make_unique<body_scan_driver::sim::CheckerboardPlane>(
       world_from_board.translation(), facing_camera, world_from_board.linear().col(0),
-      board.inner_cols + 1, board.inner_rows + 1, board.square_size, calib::rig::kBoardLightAlbedo,
-      calib::rig::kBoardDarkAlbedo));
-  intended->add(std::make_unique<sim::Plane>(  // white panel 3 mm behind the board
-      world_from_board * Eigen::Vector3d(0, 0, 0.003), facing_camera,
-      sim::Material{calib::rig::kBoardLightAlbedo, {0.9, 0.9, 0.9}},
-      0.5 * (board.inner_cols + 1) * board.square_size + 0.1));
-  const sim::VirtualPair from_objects(config, intended);
-  const sim::VirtualPair from_yaml(
-      config, std::make_shared<sim::Scene>(
-                  sim::parseScene(calib::boardSceneYaml(board, pose, config.world_from_camera))));
-  const sim::RenderedPatternSet expected = from_objects.render(7);
-  const sim::RenderedPatternSet actual = from_yaml.render(7);
+      board.inner_cols + 1, board.inner_rows + 1, board.square_size,
+      body_scan_calib::rig::kBoardLightAlbedo, body_scan_calib::rig::kBoardDarkAlbedo));
+  intended->add(
+      std::make_unique<body_scan_driver::sim::Plane>(  // white panel 3 mm behind the board
+          world_from_board * Eigen::Vector3d(0, 0, 0.003), facing_camera,
+          body_scan_driver::sim::Material{body_scan_calib::rig::kBoardLightAlbedo, {0.9, 0.9, 0.9}},
+          0.5 * (board.inner_cols + 1) * board.square_size + 0.1));
+  const body_scan_driver::sim::VirtualPair from_objects(config, intended);
+  const body_scan_driver::sim::VirtualPair from_yaml(
+      config, std::make_shared<body_scan_driver::sim::Scene>(body_scan_driver::sim::parseScene(
+                  body_scan_calib::boardSceneYaml(board, pose, config.world_from_camera))));
+  const body_scan_driver::sim::RenderedPatternSet expected = from_objects.render(7);
+  const body_scan_driver::sim::RenderedPatternSet actual = from_yaml.render(7);
   // The board is in view: a good share of the pixels sees it (else the comparison is empty).
   EXPECT_GT(cv::countNonZero(expected.truth.surface == 0), 20000);
   EXPECT_EQ(differingPixels(expected.frames, actual.frames), 0);
   // rig::boardScene is that same text.
-  EXPECT_EQ(differingPixels(expected.frames,
-                            sim::VirtualPair(config, calib::rig::boardScene(
-                                                         board, pose, config.world_from_camera))
-                                .render(7)
-                                .frames),
+  EXPECT_EQ(differingPixels(expected.frames, body_scan_driver::sim::VirtualPair(
+                                                 config, body_scan_calib::rig::boardScene(
+                                                             board, pose, config.world_from_camera))
+                                                 .render(7)
+                                                 .frames),
             0);
 }
 
 TEST(CalibrationCapture, SphereSceneFileRendersTheFiveSpheres) {
-  const sim::VirtualPairConfig config = smallPair();
-  const auto centers = calib::rig::defaultSphereCenters();
-  auto intended = std::make_shared<sim::Scene>();
+  const body_scan_driver::sim::VirtualPairConfig config = smallPair();
+  const auto centers = body_scan_calib::rig::defaultSphereCenters();
+  auto intended = std::make_shared<body_scan_driver::sim::Scene>();
   for (const Eigen::Vector3d& center : centers)
-    intended->add(std::make_unique<sim::Sphere>(config.world_from_camera * center, 0.025,
-                                                sim::Material{0.7, {0.8, 0.8, 0.8}}));
-  const sim::VirtualPair from_objects(config, intended);
-  const sim::VirtualPair from_yaml(
-      config, std::make_shared<sim::Scene>(sim::parseScene(
-                  calib::sphereSceneYaml(centers, 0.025, config.world_from_camera))));
-  const sim::RenderedPatternSet expected = from_objects.render(3);
+    intended->add(std::make_unique<body_scan_driver::sim::Sphere>(
+        config.world_from_camera * center, 0.025,
+        body_scan_driver::sim::Material{0.7, {0.8, 0.8, 0.8}}));
+  const body_scan_driver::sim::VirtualPair from_objects(config, intended);
+  const body_scan_driver::sim::VirtualPair from_yaml(
+      config, std::make_shared<body_scan_driver::sim::Scene>(body_scan_driver::sim::parseScene(
+                  body_scan_calib::sphereSceneYaml(centers, 0.025, config.world_from_camera))));
+  const body_scan_driver::sim::RenderedPatternSet expected = from_objects.render(3);
   for (int sphere = 0; sphere < 5; ++sphere)
     EXPECT_GT(cv::countNonZero(expected.truth.surface == sphere), 500) << "sphere " << sphere;
   EXPECT_EQ(differingPixels(expected.frames, from_yaml.render(3).frames), 0);
 }
 
 TEST(CalibrationCapture, AveragingMatchesTheRigProtocol) {
-  const sim::VirtualPairConfig config = smallPair();
-  const sim::VirtualPair pair(
-      config, calib::rig::boardScene(calib::referenceBoard(), calib::rig::defaultBoardPoses()[0],
-                                     config.world_from_camera));
+  const body_scan_driver::sim::VirtualPairConfig config = smallPair();
+  const body_scan_driver::sim::VirtualPair pair(
+      config, body_scan_calib::rig::boardScene(body_scan_calib::referenceBoard(),
+                                               body_scan_calib::rig::defaultBoardPoses()[0],
+                                               config.world_from_camera));
   std::vector<std::vector<cv::Mat>> captures;
   for (uint32_t id = 500; id < 503; ++id) captures.push_back(pair.render(id).frames);
-  const std::vector<cv::Mat> averaged = calib::averageCaptures(captures);
+  const std::vector<cv::Mat> averaged = body_scan_calib::averageCaptures(captures);
   EXPECT_GT(differingPixels(averaged, captures[0]), 10000);  // the noise did average out
-  EXPECT_EQ(differingPixels(averaged, calib::rig::captureAveraged(pair, 3, 500)), 0);
+  EXPECT_EQ(differingPixels(averaged, body_scan_calib::rig::captureAveraged(pair, 3, 500)), 0);
   captures[1].pop_back();
-  EXPECT_THROW(calib::averageCaptures(captures), std::invalid_argument);
+  EXPECT_THROW(body_scan_calib::averageCaptures(captures), std::invalid_argument);
 }
 
 TEST(CalibrationCapture, GroupsRunsOfConsecutiveScanIds) {
-  const auto groups = calib::groupConsecutiveScanIds({1000, 1001, 1002, 2000, 7, 8, 8});
+  const auto groups = body_scan_calib::groupConsecutiveScanIds({1000, 1001, 1002, 2000, 7, 8, 8});
   ASSERT_EQ(groups.size(), 4u);
   EXPECT_EQ(groups[0], (std::vector<size_t>{0, 1, 2}));
   EXPECT_EQ(groups[1], (std::vector<size_t>{3}));
@@ -150,7 +154,8 @@ body_scan_msgs::PatternSet randomSet(uint32_t scan_id, const std::string& pair_i
 }
 
 std::vector<cv::Mat> readFolder(const fs::path& folder) {
-  return calib::loadPatternFrames(folder.string(), PatternLayout(kBits, true));
+  return body_scan_calib::loadPatternFrames(folder.string(),
+                                            body_scan_driver::PatternLayout(kBits, true));
 }
 
 }  // namespace
@@ -179,14 +184,14 @@ TEST(CalibrationBag, ConvertsRunsOfScanIdsToPoseFoldersFrameForFrame) {
       spheres.push_back(frames);
     }
   }
-  calib::BagConversionOptions options;
+  body_scan_calib::BagConversionOptions options;
   options.spheres_last = true;
   const fs::path out = folder / "images";
   // An earlier, longer run left pose_07: it must not be read with this run's poses.
   fs::create_directories(out / "pose_07");
   fs::create_directories(out / "notes");
-  const calib::BagConversionResult result =
-      calib::bagToCalibrationFolder(bag_path, out.string(), options);
+  const body_scan_calib::BagConversionResult result =
+      body_scan_calib::bagToCalibrationFolder(bag_path, out.string(), options);
   EXPECT_EQ(result.pattern_sets, 6u);
   EXPECT_EQ(result.bits, kBits);
   ASSERT_EQ(result.folders.size(), 3u);
@@ -198,8 +203,10 @@ TEST(CalibrationBag, ConvertsRunsOfScanIdsToPoseFoldersFrameForFrame) {
   EXPECT_TRUE(fs::exists(out / "notes"));  // not the capture layout's: left alone
   // A single set is written unchanged; repeated exposures are their per-pattern mean.
   EXPECT_EQ(differingPixels(readFolder(out / "pose_01"), pose1[0]), 0);
-  EXPECT_EQ(differingPixels(readFolder(out / "pose_00"), calib::averageCaptures(pose0)), 0);
-  EXPECT_EQ(differingPixels(readFolder(out / "spheres"), calib::averageCaptures(spheres)), 0);
+  EXPECT_EQ(differingPixels(readFolder(out / "pose_00"), body_scan_calib::averageCaptures(pose0)),
+            0);
+  EXPECT_EQ(differingPixels(readFolder(out / "spheres"), body_scan_calib::averageCaptures(spheres)),
+            0);
   EXPECT_GT(differingPixels(readFolder(out / "pose_00"), pose0[0]), 0);
   fs::remove_all(folder);
 }
@@ -217,17 +224,18 @@ TEST(CalibrationBag, RejectsBagsWithoutOrWithSeveralPairs) {
   }
   const std::string out = (folder / "images").string();
   try {
-    calib::bagToCalibrationFolder(bag_path, out, {});
+    body_scan_calib::bagToCalibrationFolder(bag_path, out, {});
     ADD_FAILURE() << "two pairs accepted";
-  } catch (const calib::CalibrationBagError& e) {
+  } catch (const body_scan_calib::CalibrationBagError& e) {
     EXPECT_NE(std::string(e.what()).find("--pair-id"), std::string::npos) << e.what();
   }
-  calib::BagConversionOptions one_pair;
+  body_scan_calib::BagConversionOptions one_pair;
   one_pair.pair_id = "pole_b/pair_1";
-  EXPECT_EQ(calib::bagToCalibrationFolder(bag_path, out, one_pair).pattern_sets, 1u);
+  EXPECT_EQ(body_scan_calib::bagToCalibrationFolder(bag_path, out, one_pair).pattern_sets, 1u);
   one_pair.topic = "/nothing";
-  EXPECT_THROW(calib::bagToCalibrationFolder(bag_path, out, one_pair), calib::CalibrationBagError);
-  EXPECT_THROW(calib::bagToCalibrationFolder((folder / "missing.bag").string(), out, {}),
-               calib::CalibrationBagError);
+  EXPECT_THROW(body_scan_calib::bagToCalibrationFolder(bag_path, out, one_pair),
+               body_scan_calib::CalibrationBagError);
+  EXPECT_THROW(body_scan_calib::bagToCalibrationFolder((folder / "missing.bag").string(), out, {}),
+               body_scan_calib::CalibrationBagError);
   fs::remove_all(folder);
 }

@@ -8,7 +8,7 @@
 
 #include "camera_test_fixtures.h"
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 namespace {
 
 using test::boardPose;
@@ -31,7 +31,7 @@ TEST(Checkerboard, ObjectPointsAreRowMajorOnZ0) {
 
 TEST(Homography, NormalizedDltIsExactOnNoiseFreePoints) {
   const Checkerboard board = simulatedBoard();
-  PinholeCamera camera = simulatorCamera();
+  body_scan_driver::PinholeCamera camera = simulatorCamera();
   camera.k1 = camera.k2 = 0;
   const Eigen::Isometry3d pose = threeSpreadPoses(board)[0];
   const std::vector<Eigen::Vector2d> image = projectCorners(camera, board, {pose}, 0, 0)[0];
@@ -51,7 +51,8 @@ TEST(Homography, NormalizedDltIsExactOnNoiseFreePoints) {
 TEST(ZhangClosedForm, RecoversIntrinsicsAndPosesWithoutNoise) {
   const Checkerboard board = simulatedBoard();
   for (const bool estimate_skew : {false, true}) {
-    PinholeCamera truth{640, 480, 795, 805, estimate_skew ? 1.5 : 0.0, 330.2, 228.7, 0, 0};
+    body_scan_driver::PinholeCamera truth{640,   480,   795, 805, estimate_skew ? 1.5 : 0.0,
+                                          330.2, 228.7, 0,   0};
     const std::vector<Eigen::Isometry3d> poses = threeSpreadPoses(board);
     const auto views = projectCorners(truth, board, poses, 0, 0);
     std::vector<Eigen::Matrix3d> homographies;
@@ -74,7 +75,7 @@ TEST(ZhangClosedForm, RecoversIntrinsicsAndPosesWithoutNoise) {
 
 TEST(CameraCalibration, RecoversDistortedCameraExactlyWithoutNoise) {
   const Checkerboard board = simulatedBoard();
-  const PinholeCamera truth = simulatorCamera();
+  const body_scan_driver::PinholeCamera truth = simulatorCamera();
   const auto views = projectCorners(truth, board, threeSpreadPoses(board), 0, 0);
   const CameraCalibrationResult result = calibrateCamera(views, board, 640, 480);
   EXPECT_NEAR(result.camera.alpha, truth.alpha, 1e-6);
@@ -94,11 +95,11 @@ struct SimulatedErrors {
 
 SimulatedErrors calibrateSimulated(unsigned seed, double sigma) {
   const Checkerboard board = simulatedBoard();
-  const PinholeCamera truth = simulatorCamera();
+  const body_scan_driver::PinholeCamera truth = simulatorCamera();
   const auto views = projectCorners(truth, board, threeSpreadPoses(board), sigma, seed);
   SimulatedErrors errors;
   errors.result = calibrateCamera(views, board, 640, 480);
-  const PinholeCamera& c = errors.result.camera;
+  const body_scan_driver::PinholeCamera& c = errors.result.camera;
   errors.focal_relative = std::max(std::abs(c.alpha - truth.alpha) / truth.alpha,
                                    std::abs(c.beta - truth.beta) / truth.beta);
   errors.principal_px = std::max(std::abs(c.u0 - truth.u0), std::abs(c.v0 - truth.v0));
@@ -110,7 +111,7 @@ SimulatedErrors calibrateSimulated(unsigned seed, double sigma) {
 TEST(CameraCalibration, SimulatedThreePosesMeetTheIssueBounds) {
   const double sigma = 0.2;
   const SimulatedErrors e = calibrateSimulated(7, sigma);
-  const PinholeCamera& c = e.result.camera;
+  const body_scan_driver::PinholeCamera& c = e.result.camera;
   std::printf(
       "[ figure ] simulated, seed 7: fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f rms %.4f px "
       "(truth 810 810 319.5 239.5 -0.08 0.03; noise %.2f px)\n",
@@ -133,7 +134,7 @@ TEST(CameraCalibration, SimulatedBoundsHoldForMostSeedsAndStdDevsMatchScatter) {
   for (int seed = 1; seed <= seeds; ++seed) {
     const SimulatedErrors e = calibrateSimulated(static_cast<unsigned>(seed), sigma);
     if (e.focal_relative <= 0.005 && e.principal_px <= 2.0 && e.rms_ratio <= 1.2) ++passing;
-    const PinholeCamera& c = e.result.camera;
+    const body_scan_driver::PinholeCamera& c = e.result.camera;
     Eigen::Matrix<double, 7, 1> value;
     value << c.alpha, c.beta, c.gamma, c.u0, c.v0, c.k1, c.k2;
     sum += value;
@@ -164,12 +165,12 @@ TEST(CameraCalibration, SimulatedBoundsHoldForMostSeedsAndStdDevsMatchScatter) {
 // reported uncertainty and the other bounds still hold.
 TEST(CameraCalibration, EstimatedSkewIsZeroWithinItsStdDev) {
   const Checkerboard board = simulatedBoard();
-  const PinholeCamera truth = simulatorCamera();
+  const body_scan_driver::PinholeCamera truth = simulatorCamera();
   const auto views = projectCorners(truth, board, threeSpreadPoses(board), 0.2, 7);
   CameraCalibrationOptions options;
   options.estimate_skew = true;
   const CameraCalibrationResult result = calibrateCamera(views, board, 640, 480, options);
-  const PinholeCamera& c = result.camera;
+  const body_scan_driver::PinholeCamera& c = result.camera;
   std::printf(
       "[ figure ] skew estimated, seed 7: gamma %.4f +- %.4f px, fx %.3f fy %.3f cx %.3f "
       "cy %.3f rms %.4f px\n",
@@ -183,7 +184,7 @@ TEST(CameraCalibration, EstimatedSkewIsZeroWithinItsStdDev) {
 
 TEST(BoardPose, RecoversTruePoseOfKnownCamera) {
   const Checkerboard board = simulatedBoard();
-  const PinholeCamera camera = simulatorCamera();
+  const body_scan_driver::PinholeCamera camera = simulatorCamera();
   for (const Eigen::Isometry3d& truth : threeSpreadPoses(board)) {
     const auto corners = projectCorners(camera, board, {truth}, 0, 0)[0];
     const Eigen::Isometry3d pose = estimateBoardPose(camera, corners, board);
@@ -194,7 +195,7 @@ TEST(BoardPose, RecoversTruePoseOfKnownCamera) {
 
 TEST(CameraCalibration, RejectsBadInputWithClearErrors) {
   const Checkerboard board = simulatedBoard();
-  const PinholeCamera camera = simulatorCamera();
+  const body_scan_driver::PinholeCamera camera = simulatorCamera();
   auto poses = threeSpreadPoses(board);
   const auto two_views = projectCorners(camera, board, {poses[0], poses[1]}, 0, 0);
   EXPECT_THROW(calibrateCamera(two_views, board, 640, 480), CameraCalibrationError);
@@ -218,4 +219,4 @@ TEST(CameraCalibration, RejectsBadInputWithClearErrors) {
 }
 
 }  // namespace
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -14,7 +14,7 @@
 
 #include "camera_test_fixtures.h"
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 namespace {
 
 namespace fs = std::filesystem;
@@ -88,7 +88,7 @@ TEST(CameraCalibrationImages, OpenCvSampleImagesMatchCvCalibrateCamera) {
   const double opencv_rms =
       cv::calibrateCamera(object_points, image_points, size, k, distortion, rotations, translations,
                           cv::CALIB_ZERO_TANGENT_DIST | cv::CALIB_FIX_K3);
-  const PinholeCamera& c = ours.camera;
+  const body_scan_driver::PinholeCamera& c = ours.camera;
   std::printf("[ figure ] ours:   fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f rms %.6f px\n",
               c.alpha, c.beta, c.u0, c.v0, c.k1, c.k2, ours.rms_px);
   std::printf("[ figure ] OpenCV: fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f rms %.6f px\n",
@@ -110,11 +110,11 @@ TEST(CameraCalibrationImages, OpenCvSampleImagesMatchCvCalibrateCamera) {
 // blur and noise scaled to stay the same at the output) and area-averaged back to 640x480:
 // pixels then integrate light over their area as a real sensor's do.
 cv::Mat renderBoard(const Checkerboard& board, const Eigen::Isometry3d& pose, int supersampling) {
-  sim::VirtualPairConfig config;
-  config.world_from_camera = sim::cameraPose({0, 0, 0}, 0, 0);
+  body_scan_driver::sim::VirtualPairConfig config;
+  config.world_from_camera = body_scan_driver::sim::cameraPose({0, 0, 0}, 0, 0);
   config.bits = 1;  // the pattern frames are not needed; only the texture image
-  const PinholeCamera output = config.camera;
-  PinholeCamera& camera = config.camera;
+  const body_scan_driver::PinholeCamera output = config.camera;
+  body_scan_driver::PinholeCamera& camera = config.camera;
   const double n = supersampling;
   camera.width *= supersampling, camera.height *= supersampling;
   camera.alpha *= n, camera.beta *= n;
@@ -126,15 +126,15 @@ cv::Mat renderBoard(const Checkerboard& board, const Eigen::Isometry3d& pose, in
   const Eigen::Vector3d center(0.5 * (board.inner_cols - 1) * board.square_size,
                                0.5 * (board.inner_rows - 1) * board.square_size, 0);
   // inner_cols + 1 by inner_rows + 1 squares; axis_v = normal x axis_u = the board's y axis.
-  auto scene = std::make_shared<sim::Scene>();
-  scene->add(std::make_unique<sim::CheckerboardPlane>(
+  auto scene = std::make_shared<body_scan_driver::sim::Scene>();
+  scene->add(std::make_unique<body_scan_driver::sim::CheckerboardPlane>(
       world_from_board * center, world_from_board.linear().col(2), world_from_board.linear().col(0),
       board.inner_cols + 1, board.inner_rows + 1, board.square_size, 0.8, 0.1));
   // The white sheet the board is printed on, 2 mm behind it: the detector needs the margin.
-  scene->add(std::make_unique<sim::Plane>(
+  scene->add(std::make_unique<body_scan_driver::sim::Plane>(
       world_from_board * (center + Eigen::Vector3d(0, 0, 0.002)), world_from_board.linear().col(2),
-      sim::Material{0.9, {0.9, 0.9, 0.9}}, 0.4));
-  const sim::VirtualPair pair(config, scene);
+      body_scan_driver::sim::Material{0.9, {0.9, 0.9, 0.9}}, 0.4));
+  const body_scan_driver::sim::VirtualPair pair(config, scene);
   cv::Mat gray;
   cv::cvtColor(pair.render().texture, gray, cv::COLOR_RGB2GRAY);
   if (supersampling > 1)
@@ -153,7 +153,7 @@ struct RenderedCheck {
 // detection is matched to its nearest true corner); then calibrates from the detections alone.
 RenderedCheck checkRenderedBoards(int supersampling) {
   const Checkerboard board{9, 6, 0.04};
-  const PinholeCamera truth = test::simulatorCamera();
+  const body_scan_driver::PinholeCamera truth = test::simulatorCamera();
   RenderedCheck check;
   std::vector<std::vector<Eigen::Vector2d>> views;
   double squared_sum = 0;
@@ -182,7 +182,7 @@ RenderedCheck checkRenderedBoards(int supersampling) {
   }
   check.corner_rms = std::sqrt(squared_sum / check.corners);
   check.calibration = calibrateCamera(views, board, truth.width, truth.height);
-  const PinholeCamera& c = check.calibration.camera;
+  const body_scan_driver::PinholeCamera& c = check.calibration.camera;
   std::printf(
       "[ figure ] rendered boards, supersampling %d: corners %.4f px RMS, worst %.4f px "
       "over %zu corners\n",
@@ -216,4 +216,4 @@ TEST(CameraCalibrationImages, CornersOfAreaSampledRendersAreAccurate) {
 }
 
 }  // namespace
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -14,7 +14,7 @@
 
 #include "camera_test_fixtures.h"
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 namespace {
 
 namespace fs = std::filesystem;
@@ -45,8 +45,8 @@ TEST(CameraCalibrationIo, RoundTripAndReadableByCameraCalibrationParsers) {
   const CameraCalibrationReport report = simulatedReport();
   saveCameraCalibration(path, report);
 
-  const PinholeCamera loaded = loadCameraCalibration(path);
-  const PinholeCamera& c = report.result.camera;
+  const body_scan_driver::PinholeCamera loaded = loadCameraCalibration(path);
+  const body_scan_driver::PinholeCamera& c = report.result.camera;
   EXPECT_EQ(loaded.width, 640);
   EXPECT_EQ(loaded.height, 480);
   EXPECT_DOUBLE_EQ(loaded.alpha, c.alpha);
@@ -139,7 +139,7 @@ TEST(CalibrateCameraTool, CalibratesOpenCvSamplesAndWritesAReadableFile) {
   ASSERT_EQ(result.status, 0) << result.output;
   EXPECT_NE(result.output.find("[1/"), std::string::npos);  // progress per image
   EXPECT_NE(result.output.find("board found"), std::string::npos);
-  const PinholeCamera camera = loadCameraCalibration(output);
+  const body_scan_driver::PinholeCamera camera = loadCameraCalibration(output);
   EXPECT_EQ(camera.width, 640);
   EXPECT_GT(camera.alpha, 400);  // a plausible focal length; the figures are checked elsewhere
   fs::remove_all(folder);
@@ -172,4 +172,4 @@ TEST(CalibrateCameraTool, ReportsClearErrors) {
 }
 
 }  // namespace
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -15,14 +15,14 @@
 #include <filesystem>
 #include <memory>
 
-using namespace body_scan;
-using namespace body_scan::calib;
+using namespace body_scan_driver;
+using namespace body_scan_calib;
 
 namespace {
 
 struct Calibrated {
-  sim::VirtualPairConfig config;
-  PairCalibration truth;
+  body_scan_driver::sim::VirtualPairConfig config;
+  body_scan_driver::PairCalibration truth;
   std::vector<std::vector<cv::Mat>> pose_frames;
   PairCalibrationOutcome outcome;
 };
@@ -34,12 +34,12 @@ const Calibrated& calibrated() {
     auto c = std::make_unique<Calibrated>();
     PairCalibrationOptions options;
     for (const Eigen::Isometry3d& pose : rig::defaultBoardPoses()) {
-      const sim::VirtualPair pair(
+      const body_scan_driver::sim::VirtualPair pair(
           c->config, rig::boardScene(options.board, pose, c->config.world_from_camera));
       c->pose_frames.push_back(rig::captureAveraged(pair, 1, 7));
       c->truth = pair.factoryCalibration();
     }
-    c->outcome = calibratePair(c->pose_frames, PatternLayout(8, true), options);
+    c->outcome = calibratePair(c->pose_frames, body_scan_driver::PatternLayout(8, true), options);
     return c;
   }();
   return *result;
@@ -55,7 +55,7 @@ double angleDeg(const Eigen::Vector4d& a, const Eigen::Vector4d& b) {
 
 TEST(PairCalibration, StripePlanesMatchTheSimulatorsTruePlanes) {
   const Calibrated& c = calibrated();
-  const StripePlaneProjector& estimated = c.outcome.calibration.projector;
+  const body_scan_driver::StripePlaneProjector& estimated = c.outcome.calibration.projector;
   ASSERT_EQ(estimated.stripeCount(), 256);
   double worst_angle = 0, worst_offset = 0, mean_angle = 0;
   int fitted = 0;
@@ -111,8 +111,9 @@ TEST(PairCalibration, StripesSeenOnFewerThanThreePosesAreNaNAndReported) {
   // With only three poses, stripes that two of them see are missing too: never invented.
   std::vector<ReferencePlaneObservation> three;
   for (int pose : {0, 2, 6}) {
-    StripeImage stripes;
-    StripeDecoder(PatternLayout(8, true)).decode(c.pose_frames[pose], stripes);
+    body_scan_driver::StripeImage stripes;
+    body_scan_driver::StripeDecoder(body_scan_driver::PatternLayout(8, true))
+        .decode(c.pose_frames[pose], stripes);
     three.push_back({c.outcome.camera.board_to_camera[pose], stripes.coordinate.clone(),
                      boardRegion(c.outcome.camera.camera, c.outcome.camera.board_to_camera[pose],
                                  referenceBoard())});
@@ -140,7 +141,7 @@ TEST(PairCalibration, TheCalibrationFileIsReadByLoadCalibration) {
                             ("calib_test_" + std::to_string(::getpid())) / "pair.yaml")
                                .string();
   saveCalibration(path, c.outcome.calibration);
-  const PairCalibration loaded = loadCalibration(path);
+  const body_scan_driver::PairCalibration loaded = loadCalibration(path);
   EXPECT_NEAR(loaded.camera.alpha, c.outcome.calibration.camera.alpha, 1e-6);
   ASSERT_EQ(loaded.projector.stripeCount(), 256);
   for (int i = 0; i < 256; ++i)
@@ -149,14 +150,14 @@ TEST(PairCalibration, TheCalibrationFileIsReadByLoadCalibration) {
   std::filesystem::remove_all(std::filesystem::path(path).parent_path());
 
   // A never-observed stripe triangulates to nothing, a calibrated one to points.
-  const Triangulator triangulator(loaded);
+  const body_scan_driver::Triangulator triangulator(loaded);
   std::vector<float> xyz(640 * 480 * 3);
   const int missing = c.outcome.planes.missing_stripes.front();
   EXPECT_EQ(triangulator.triangulate(cv::Mat1f(480, 640, missing + 0.5f), xyz.data(), 3), 0u);
   EXPECT_GT(triangulator.triangulate(cv::Mat1f(480, 640, 128.5f), xyz.data(), 3), 0u);
 
   // The checked-in calibration of docs/calibration is readable too.
-  const PairCalibration checked_in = loadCalibration(CALIB_DOCS_DIR "/pair.yaml");
+  const body_scan_driver::PairCalibration checked_in = loadCalibration(CALIB_DOCS_DIR "/pair.yaml");
   EXPECT_EQ(checked_in.projector.stripeCount(), 256);
   EXPECT_NEAR(checked_in.camera.alpha, c.config.camera.alpha, 0.01 * c.config.camera.alpha);
 }
@@ -168,7 +169,7 @@ TEST(PairCalibration, OfflineFromAnImageFolderGivesTheLiveResult) {
   for (size_t pose = 0; pose < c.pose_frames.size(); ++pose)
     savePatternFrames((folder / poseFolderName(static_cast<int>(pose))).string(),
                       c.pose_frames[pose]);
-  const PatternLayout layout(8, true);
+  const body_scan_driver::PatternLayout layout(8, true);
   const auto loaded = loadPoseCaptures(folder.string(), layout);
   ASSERT_EQ(loaded.size(), c.pose_frames.size());
   PairCalibrationOptions options;
@@ -192,13 +193,13 @@ TEST(PairCalibration, SphereTablePlaneModelBeatsThePinholeBaseline) {
   const Calibrated& c = calibrated();
   constexpr double kRadius = 0.025;
   const std::vector<Eigen::Vector3d> centers = rig::defaultSphereCenters();
-  const sim::VirtualPair pair(c.config,
-                              rig::sphereScene(centers, kRadius, c.config.world_from_camera));
+  const body_scan_driver::sim::VirtualPair pair(
+      c.config, rig::sphereScene(centers, kRadius, c.config.world_from_camera));
   const int exposures = 8;  // the capture protocol (16 in the checked-in report), kept short here
-  const AccuracyEvaluation evaluation =
-      evaluateSphereAccuracy(c.outcome.calibration, c.outcome.pinhole_calibration,
-                             rig::captureAveraged(pair, exposures, 500), PatternLayout(8, true),
-                             centers, centers, kRadius, exposures);
+  const AccuracyEvaluation evaluation = evaluateSphereAccuracy(
+      c.outcome.calibration, c.outcome.pinhole_calibration,
+      rig::captureAveraged(pair, exposures, 500), body_scan_driver::PatternLayout(8, true), centers,
+      centers, kRadius, exposures);
   ASSERT_EQ(evaluation.spheres.size(), 5u);
   double plane_center_error = 0, pinhole_center_error = 0;
   for (const SphereAccuracy& row : evaluation.spheres) {

@@ -7,8 +7,8 @@
 
 #include <random>
 
-using namespace body_scan;
-using namespace body_scan::calib;
+using namespace body_scan_driver;
+using namespace body_scan_calib;
 
 namespace {
 
@@ -24,7 +24,7 @@ Eigen::Isometry3d tiltedBoardPose() {
 }  // namespace
 
 TEST(ImageToCameraTransform, LiftsProjectedBoardPointsBackOntoTheBoard) {
-  const PinholeCamera camera{640, 480, 805, 812, 0.4, 322, 236, -0.09, 0.04};
+  const body_scan_driver::PinholeCamera camera{640, 480, 805, 812, 0.4, 322, 236, -0.09, 0.04};
   const Eigen::Isometry3d pose = tiltedBoardPose();
   std::vector<StripeCentreSample> samples;
   std::vector<Eigen::Vector3d> truth;
@@ -92,7 +92,7 @@ TEST(PinholeProjector, DltAndGaussNewtonRecoverAnExactPinholeProjector) {
   const double sign = fit.projector.projection(0, 1) * truth(0, 1) > 0 ? 1 : -1;
   EXPECT_LT((sign * fit.projector.projection - truth).norm(), 1e-6);
   // Its stripe planes, interpolated as the Triangulator does, are exactly planeAt(s).
-  const StripePlaneProjector planes = fit.projector.toStripePlanes(256);
+  const body_scan_driver::StripePlaneProjector planes = fit.projector.toStripePlanes(256);
   const Eigen::Vector4d interpolated = planes.planeAt(100.3), exact = fit.projector.planeAt(100.3);
   ASSERT_TRUE(interpolated.allFinite());
   EXPECT_NEAR(std::abs(interpolated.normalized().dot(exact.normalized())), 1.0, 1e-12);

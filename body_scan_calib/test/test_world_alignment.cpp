@@ -18,8 +18,8 @@
 #include <random>
 #include <set>
 
-using namespace body_scan;
-using namespace body_scan::calib;
+using namespace body_scan_driver;
+using namespace body_scan_calib;
 
 namespace {
 
@@ -48,7 +48,8 @@ TEST(WorldAlignmentModel, PolarSplitRecoversRotationAndSymmetricPart) {
     Eigen::Matrix<double, 3, 4> affine;
     affine << rotation * residual, translation;
 
-    const WorldAlignment alignment = WorldAlignment::fromAffine(affine);
+    const body_scan_driver::WorldAlignment alignment =
+        body_scan_driver::WorldAlignment::fromAffine(affine);
     EXPECT_LT((alignment.world_from_camera.linear() - rotation).norm(), 1e-9);
     EXPECT_LT((alignment.residual_linear - residual).norm(), 1e-9);
     EXPECT_LT((alignment.world_from_camera.translation() - translation).norm(), 1e-12);
@@ -59,11 +60,11 @@ TEST(WorldAlignmentModel, PolarSplitRecoversRotationAndSymmetricPart) {
   }
   Eigen::Matrix<double, 3, 4> singular = Eigen::Matrix<double, 3, 4>::Zero();
   singular(0, 0) = singular(1, 1) = 1;
-  EXPECT_THROW(WorldAlignment::fromAffine(singular), std::invalid_argument);
+  EXPECT_THROW(body_scan_driver::WorldAlignment::fromAffine(singular), std::invalid_argument);
 }
 
 TEST(WorldAlignmentModel, CalibrationFileKeepsTheAlignment) {
-  PairCalibration calibration;
+  body_scan_driver::PairCalibration calibration;
   calibration.pair_id = "pole_a/pair_1";
   calibration.projector.planes = {{0, 1, 0.1, 0.3}, {0, 1, 0.2, 0.3}};
   const std::string path = testing::TempDir() + "/alignment_round_trip.yaml";
@@ -74,16 +75,16 @@ TEST(WorldAlignmentModel, CalibrationFileKeepsTheAlignment) {
   Eigen::Matrix<double, 3, 4> affine;
   affine << randomRotation(random) * Eigen::Vector3d(1.002, 0.998, 1.001).asDiagonal(),
       Eigen::Vector3d(0.9, -0.4, 1.1);
-  calibration.alignment = WorldAlignment::fromAffine(affine);
+  calibration.alignment = body_scan_driver::WorldAlignment::fromAffine(affine);
   saveCalibration(path, calibration);
-  const PairCalibration loaded = loadCalibration(path);
+  const body_scan_driver::PairCalibration loaded = loadCalibration(path);
   ASSERT_TRUE(loaded.alignment.has_value());
   EXPECT_LT((loaded.alignment->affine() - affine).norm(), 1e-12);
   std::remove(path.c_str());
 }
 
 TEST(CylinderLayout, MarkersAndGridPointsAreConsistent) {
-  const CalibrationCylinderLayout layout;
+  const body_scan_driver::CalibrationCylinderLayout layout;
   EXPECT_EQ(layout.columns(), 26);        // 2 pi 207.5 mm / 50 mm, even
   EXPECT_EQ(layout.rows(), 36);           // 1800 mm / 50 mm
   EXPECT_LE(layout.markerCount(), 1000);  // DICT_4X4_1000
@@ -144,31 +145,33 @@ TEST(WorldAlignmentFit, RecoversAnAffineAndRejectsBadPointSets) {
 // Renders, decodes and observes the cylinder with each rig pair; keeps the configs for truth.
 // Triangulates with `calibration` if given, else with the simulator's factory calibration.
 struct RigView {
-  sim::VirtualPairConfig config;
-  PairCalibration calibration;
+  body_scan_driver::sim::VirtualPairConfig config;
+  body_scan_driver::PairCalibration calibration;
   CylinderObservation observation;
 };
 
-RigView viewCylinder(const std::string& name,
-                     const std::optional<PairCalibration>& calibration = std::nullopt) {
-  static const auto scene = std::make_shared<sim::Scene>(sim::loadScene(kCylinderScene));
+RigView viewCylinder(
+    const std::string& name,
+    const std::optional<body_scan_driver::PairCalibration>& calibration = std::nullopt) {
+  static const auto scene = std::make_shared<body_scan_driver::sim::Scene>(
+      body_scan_driver::sim::loadScene(kCylinderScene));
   RigView view;
-  view.config = sim::loadVirtualPairConfig(kAlignmentConfig + name + ".yaml");
-  const sim::VirtualPair pair(view.config, scene);
+  view.config = body_scan_driver::sim::loadVirtualPairConfig(kAlignmentConfig + name + ".yaml");
+  const body_scan_driver::sim::VirtualPair pair(view.config, scene);
   view.calibration = calibration ? *calibration : pair.factoryCalibration();
-  const sim::RenderedPatternSet rendered = pair.render(1);
-  StripeImage stripes;
-  StripeDecoder(pair.layout()).decode(rendered.frames, stripes);
+  const body_scan_driver::sim::RenderedPatternSet rendered = pair.render(1);
+  body_scan_driver::StripeImage stripes;
+  body_scan_driver::StripeDecoder(pair.layout()).decode(rendered.frames, stripes);
   cv::Mat gray;
   cv::cvtColor(rendered.texture, gray, cv::COLOR_RGB2GRAY);
-  view.observation =
-      observeCylinder(gray, stripes.coordinate, view.calibration, CalibrationCylinderLayout{});
+  view.observation = observeCylinder(gray, stripes.coordinate, view.calibration,
+                                     body_scan_driver::CalibrationCylinderLayout{});
   return view;
 }
 
 TEST(CylinderTarget, DetectsGridPointsAtTheirTrueProjections) {
   const RigView view = viewCylinder("pole_a_pair_1");
-  const CalibrationCylinderLayout layout;
+  const body_scan_driver::CalibrationCylinderLayout layout;
   const Eigen::Isometry3d camera_from_world = view.config.world_from_camera.inverse();
   double sum = 0, worst = 0;
   for (const GridPointDetection& detection : view.observation.detections) {
@@ -200,8 +203,9 @@ TEST(CylinderTarget, DetectsGridPointsAtTheirTrueProjections) {
 
 // Aligns the rig's four pairs (each triangulating with calibrations[name] if present, else the
 // factory calibration) and returns E_h (eq 4.2); expects a sound fit per pair.
-SharedPointAccuracy alignRig(const std::map<std::string, PairCalibration>& calibrations) {
-  const CalibrationCylinderLayout layout;
+SharedPointAccuracy alignRig(
+    const std::map<std::string, body_scan_driver::PairCalibration>& calibrations) {
+  const body_scan_driver::CalibrationCylinderLayout layout;
   std::vector<AlignedPair> aligned;
   for (const char* name : kRig) {
     const auto estimated = calibrations.find(name);
@@ -254,20 +258,20 @@ TEST(WorldAlignment, TwoPolesAgreeOnSharedPointsAsInTable42) {
 // The setting: every pair calibrated from observations (the rig's board poses, one
 // exposure each to stay cheap; scripts/calibrate_simulated_rig.sh uses 16), not the factory.
 TEST(WorldAlignment, EstimatedCalibrationsAgreeOnSharedPoints) {
-  std::map<std::string, PairCalibration> estimated;
+  std::map<std::string, body_scan_driver::PairCalibration> estimated;
   for (const char* name : kRig) {
-    const sim::VirtualPairConfig config =
-        sim::loadVirtualPairConfig(kAlignmentConfig + name + ".yaml");
+    const body_scan_driver::sim::VirtualPairConfig config =
+        body_scan_driver::sim::loadVirtualPairConfig(kAlignmentConfig + name + ".yaml");
     PairCalibrationOptions options;
     options.pair_id = config.pair_id;
     std::vector<std::vector<cv::Mat>> pose_frames;
     for (const Eigen::Isometry3d& pose : rig::defaultBoardPoses()) {
-      const sim::VirtualPair pair(config,
-                                  rig::boardScene(options.board, pose, config.world_from_camera));
+      const body_scan_driver::sim::VirtualPair pair(
+          config, rig::boardScene(options.board, pose, config.world_from_camera));
       pose_frames.push_back(rig::captureAveraged(pair, 1, 7));
     }
-    const PairCalibrationOutcome outcome =
-        calibratePair(pose_frames, PatternLayout(config.bits, config.inverse_frames), options);
+    const PairCalibrationOutcome outcome = calibratePair(
+        pose_frames, body_scan_driver::PatternLayout(config.bits, config.inverse_frames), options);
     // Estimated, not the factory planes: the stripes the board never showed are NaN.
     EXPECT_FALSE(outcome.planes.missing_stripes.empty()) << name;
     estimated[name] = outcome.calibration;

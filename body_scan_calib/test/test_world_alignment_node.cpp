@@ -17,8 +17,8 @@
 #include <mutex>
 #include <opencv2/imgproc.hpp>
 
-using namespace body_scan;
-using namespace body_scan::calib;
+using namespace body_scan_driver;
+using namespace body_scan_calib;
 
 namespace {
 
@@ -58,20 +58,20 @@ class WorldAlignmentNode : public testing::Test {
   tf2_ros::TransformListener listener_{buffer_};
 };
 
-PairCalibration someCalibration(const std::string& pair_id) {
-  PairCalibration calibration;
+body_scan_driver::PairCalibration someCalibration(const std::string& pair_id) {
+  body_scan_driver::PairCalibration calibration;
   calibration.pair_id = pair_id;
   calibration.projector.planes = {{0, 1, 0.1, 0.3}, {0, 1, 0.2, 0.3}};
   return calibration;
 }
 
 TEST_F(WorldAlignmentNode, PublishesAlignedPairsAndPicksUpNewFiles) {
-  PairCalibration pair_a = someCalibration("test/pair_a");
+  body_scan_driver::PairCalibration pair_a = someCalibration("test/pair_a");
   Eigen::Matrix<double, 3, 4> affine;
   affine << Eigen::AngleAxisd(2.5, Eigen::Vector3d(0.2, 0.3, 1).normalized()).toRotationMatrix() *
                 Eigen::Vector3d(1.003, 0.998, 1.001).asDiagonal(),
       Eigen::Vector3d(0.9, 0.42, 1.15);
-  pair_a.alignment = WorldAlignment::fromAffine(affine);
+  pair_a.alignment = body_scan_driver::WorldAlignment::fromAffine(affine);
   saveCalibration(directory_ + "/test_pair_a.yaml", pair_a);
   saveCalibration(directory_ + "/test_pair_b.yaml", someCalibration("test/pair_b"));  // unaligned
 
@@ -81,9 +81,9 @@ TEST_F(WorldAlignmentNode, PublishesAlignedPairsAndPicksUpNewFiles) {
   EXPECT_FALSE(lookup("test/pair_b_camera_optical_frame", 1.0)) << "unaligned pair published";
 
   // Aligning pair b while the node runs: published without a restart, pair a kept.
-  PairCalibration pair_b = someCalibration("test/pair_b");
-  pair_b.alignment =
-      WorldAlignment::fromAffine(affine + Eigen::Matrix<double, 3, 4>::Constant(0.01));
+  body_scan_driver::PairCalibration pair_b = someCalibration("test/pair_b");
+  pair_b.alignment = body_scan_driver::WorldAlignment::fromAffine(
+      affine + Eigen::Matrix<double, 3, 4>::Constant(0.01));
   saveCalibration(directory_ + "/test_pair_b.yaml", pair_b);
   const auto published_b = lookup("test/pair_b_camera_optical_frame", 10.0);
   ASSERT_TRUE(published_b);
@@ -95,21 +95,22 @@ TEST_F(WorldAlignmentNode, PublishesAlignedPairsAndPicksUpNewFiles) {
 // cylinder alignment absorbs the scale in its residual linear part L, Triangulate applies L and
 // the publisher's rigid part puts the cloud of a sphere on the true sphere in the world frame.
 TEST_F(WorldAlignmentNode, AlignedCloudLandsOnTheTrueSurface) {
-  sim::VirtualPairConfig config =
-      sim::loadVirtualPairConfig(kAlignmentConfig + "pole_a_pair_1.yaml");
+  body_scan_driver::sim::VirtualPairConfig config =
+      body_scan_driver::sim::loadVirtualPairConfig(kAlignmentConfig + "pole_a_pair_1.yaml");
   config.pair_id = "test/aligned";
-  const auto cylinder_scene = std::make_shared<sim::Scene>(sim::loadScene(kCylinderScene));
-  const sim::VirtualPair cylinder_pair(config, cylinder_scene);
-  PairCalibration calibration = cylinder_pair.factoryCalibration();
+  const auto cylinder_scene = std::make_shared<body_scan_driver::sim::Scene>(
+      body_scan_driver::sim::loadScene(kCylinderScene));
+  const body_scan_driver::sim::VirtualPair cylinder_pair(config, cylinder_scene);
+  body_scan_driver::PairCalibration calibration = cylinder_pair.factoryCalibration();
   constexpr double kScale = 1.02;
   for (Eigen::Vector4d& plane : calibration.projector.planes) plane[3] *= kScale;
 
-  const sim::RenderedPatternSet cylinder = cylinder_pair.render(1);
-  StripeImage stripes;
-  StripeDecoder(cylinder_pair.layout()).decode(cylinder.frames, stripes);
+  const body_scan_driver::sim::RenderedPatternSet cylinder = cylinder_pair.render(1);
+  body_scan_driver::StripeImage stripes;
+  body_scan_driver::StripeDecoder(cylinder_pair.layout()).decode(cylinder.frames, stripes);
   cv::Mat gray;
   cv::cvtColor(cylinder.texture, gray, cv::COLOR_RGB2GRAY);
-  const CalibrationCylinderLayout layout;
+  const body_scan_driver::CalibrationCylinderLayout layout;
   const CylinderObservation observation =
       observeCylinder(gray, stripes.coordinate, calibration, layout);
   std::vector<Eigen::Vector3d> camera, world;
@@ -125,10 +126,11 @@ TEST_F(WorldAlignmentNode, AlignedCloudLandsOnTheTrueSurface) {
   // A sphere in front of the pair (world frame = cylinder frame).
   const Eigen::Vector3d center(0, 0, 1.15);
   constexpr double kRadius = 0.15;
-  auto sphere_scene = std::make_shared<sim::Scene>();
-  sphere_scene->add(std::make_unique<sim::Sphere>(center, kRadius, sim::Material{}));
-  const sim::VirtualPair sphere_pair(config, sphere_scene);
-  const sim::RenderedPatternSet rendered = sphere_pair.render(2);
+  auto sphere_scene = std::make_shared<body_scan_driver::sim::Scene>();
+  sphere_scene->add(std::make_unique<body_scan_driver::sim::Sphere>(
+      center, kRadius, body_scan_driver::sim::Material{}));
+  const body_scan_driver::sim::VirtualPair sphere_pair(config, sphere_scene);
+  const body_scan_driver::sim::RenderedPatternSet rendered = sphere_pair.render(2);
   std_msgs::Header header;
   header.frame_id = "test/aligned_camera_optical_frame";
   header.stamp = ros::Time::now();

@@ -22,8 +22,8 @@
 #include <sstream>
 
 namespace fs = std::filesystem;
-using namespace body_scan;
-using namespace body_scan::calib;
+using namespace body_scan_driver;
+using namespace body_scan_calib;
 
 namespace {
 
@@ -65,25 +65,25 @@ struct Capture {
   std::string pair_id;
   std::vector<cv::Mat> frames;
   cv::Mat gray;
-  PatternLayout layout{8, true};
-  PairCalibration calibration;
+  body_scan_driver::PatternLayout layout{8, true};
+  body_scan_driver::PairCalibration calibration;
   std::optional<Eigen::Isometry3d> true_cylinder_from_camera;  // simulator only: evaluation
 };
 
-std::optional<PairCalibration> calibrationFromDir(const std::string& dir,
-                                                  const std::string& pair_id) {
+std::optional<body_scan_driver::PairCalibration> calibrationFromDir(const std::string& dir,
+                                                                    const std::string& pair_id) {
   if (dir.empty()) return std::nullopt;
   const std::string path = dir + "/" + fileStem(pair_id) + ".yaml";
   if (!fs::exists(path)) return std::nullopt;
-  PairCalibration calibration = loadCalibration(path);
+  body_scan_driver::PairCalibration calibration = loadCalibration(path);
   calibration.alignment.reset();  // re-aligned from scratch
   return calibration;
 }
 
 void saveCapture(const Capture& capture, const std::string& dir) {
   const std::string folder = dir + "/" + fileStem(capture.pair_id);
-  calib::savePatternFrames(folder, capture.frames);
-  calib::writePngAtomically(folder + "/texture.png", capture.gray);
+  body_scan_calib::savePatternFrames(folder, capture.frames);
+  body_scan_calib::writePngAtomically(folder + "/texture.png", capture.gray);
   YAML::Emitter out;
   out << YAML::BeginMap << YAML::Key << "pair_id" << YAML::Value << capture.pair_id << YAML::Key
       << "bits" << YAML::Value << capture.layout.bits() << YAML::Key << "inverse_frames"
@@ -92,21 +92,24 @@ void saveCapture(const Capture& capture, const std::string& dir) {
 }
 
 std::vector<Capture> captureLive(const Options& options) {
-  auto scene = std::make_shared<sim::Scene>(sim::loadScene(options.scene));
-  const sim::CalibrationCylinder* cylinder = nullptr;
+  auto scene = std::make_shared<body_scan_driver::sim::Scene>(
+      body_scan_driver::sim::loadScene(options.scene));
+  const body_scan_driver::sim::CalibrationCylinder* cylinder = nullptr;
   for (const auto& surface : scene->surfaces())
-    if (auto found = dynamic_cast<const sim::CalibrationCylinder*>(surface.get())) cylinder = found;
+    if (auto found = dynamic_cast<const body_scan_driver::sim::CalibrationCylinder*>(surface.get()))
+      cylinder = found;
   if (!cylinder)
     throw std::runtime_error("scene '" + options.scene +
                              "' has no calibration_cylinder object; use "
                              "body_scan_driver/config/scenes/calibration_cylinder.yaml");
   std::vector<Capture> captures;
   for (size_t i = 0; i < options.pairs.size(); ++i) {
-    const sim::VirtualPairConfig config = sim::loadVirtualPairConfig(options.pairs[i]);
+    const body_scan_driver::sim::VirtualPairConfig config =
+        body_scan_driver::sim::loadVirtualPairConfig(options.pairs[i]);
     std::cout << "[" << i + 1 << "/" << options.pairs.size() << "] " << config.pair_id
               << ": capturing the cylinder (simulator)... " << std::flush;
-    const sim::VirtualPair pair(config, scene);
-    sim::RenderedPatternSet rendered = pair.render(1);
+    const body_scan_driver::sim::VirtualPair pair(config, scene);
+    body_scan_driver::sim::RenderedPatternSet rendered = pair.render(1);
     Capture capture;
     capture.pair_id = config.pair_id;
     capture.frames = std::move(rendered.frames);
@@ -146,10 +149,11 @@ std::vector<Capture> captureOffline(const Options& options) {
     const YAML::Node info = YAML::LoadFile((folders[i] / "capture.yaml").string());
     Capture capture;
     capture.pair_id = info["pair_id"].as<std::string>();
-    capture.layout = PatternLayout(info["bits"].as<int>(8), info["inverse_frames"].as<bool>(true));
+    capture.layout = body_scan_driver::PatternLayout(info["bits"].as<int>(8),
+                                                     info["inverse_frames"].as<bool>(true));
     std::cout << "[" << i + 1 << "/" << folders.size() << "] " << capture.pair_id << ": reading "
               << folders[i].string() << "\n";
-    capture.frames = calib::loadPatternFrames(folders[i].string(), capture.layout);
+    capture.frames = body_scan_calib::loadPatternFrames(folders[i].string(), capture.layout);
     capture.gray = cv::imread((folders[i] / "texture.png").string(), cv::IMREAD_GRAYSCALE);
     if (capture.gray.empty())
       throw std::runtime_error("missing " + (folders[i] / "texture.png").string());
@@ -187,7 +191,8 @@ YAML::Node numbers(std::initializer_list<double> values) {
 // offset by a few pixels so that shared points show all their colours; right, E_h of each
 // shared point (eq 4.2) against its height.
 void writePlot(const std::string& path, const std::vector<AlignedPair>& pairs,
-               const CalibrationCylinderLayout& layout, const SharedPointAccuracy& accuracy) {
+               const body_scan_driver::CalibrationCylinderLayout& layout,
+               const SharedPointAccuracy& accuracy) {
   const int size = 500;
   cv::Mat3b image(size, 2 * size, cv::Vec3b(255, 255, 255));
   const cv::Scalar colours[] = {{200, 80, 0},  {0, 140, 0},   {0, 0, 220},
@@ -266,13 +271,13 @@ void writePlot(const std::string& path, const std::vector<AlignedPair>& pairs,
               0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   cv::putText(image, heights.str(), {panel.x, panel.y + panel.height + 40},
               cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  calib::writePngAtomically(path, image);
+  body_scan_calib::writePngAtomically(path, image);
 }
 
 int run(const Options& options) {
   const std::vector<Capture> captures =
       options.images.empty() ? captureLive(options) : captureOffline(options);
-  const CalibrationCylinderLayout layout;
+  const body_scan_driver::CalibrationCylinderLayout layout;
   std::vector<AlignedPair> aligned;
   YAML::Node report;
   report["thesis"] = "sec. 4.3.2, eqs 4.1-4.2, Table 4.2";
@@ -286,8 +291,8 @@ int run(const Options& options) {
     entry["pair_id"] = capture.pair_id;
     entry["calibration_source"] = capture.calibration.source;
     try {
-      StripeImage stripes;
-      StripeDecoder(capture.layout).decode(capture.frames, stripes);
+      body_scan_driver::StripeImage stripes;
+      body_scan_driver::StripeDecoder(capture.layout).decode(capture.frames, stripes);
       const CylinderObservation observation =
           observeCylinder(capture.gray, stripes.coordinate, capture.calibration, layout);
       entry["markers"] = observation.stats.markers;
@@ -329,7 +334,7 @@ int run(const Options& options) {
             3);
         entry["simulator_check"]["translation_error_mm"] = mm((truth.translation() - t).norm());
       }
-      PairCalibration calibration = capture.calibration;
+      body_scan_driver::PairCalibration calibration = capture.calibration;
       calibration.alignment = fit.alignment;
       const std::string path = options.calibration_out + "/" + fileStem(capture.pair_id) + ".yaml";
       saveCalibration(path, calibration);

@@ -22,7 +22,7 @@ options:
 
 int main(int argc, char** argv) {
   std::vector<std::string> positional;
-  body_scan::calib::BagConversionOptions options;
+  body_scan_calib::BagConversionOptions options;
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string argument = argv[i];
@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const body_scan::calib::BagConversionResult result = body_scan::calib::bagToCalibrationFolder(
+    const body_scan_calib::BagConversionResult result = body_scan_calib::bagToCalibrationFolder(
         positional[0], positional[1], options,
         [](const std::string& line) { std::cout << "  " << line << std::endl; });
     std::cout << result.pattern_sets << " pattern sets -> " << result.folders.size()

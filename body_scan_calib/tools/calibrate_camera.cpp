@@ -18,7 +18,7 @@
 #include <vector>
 
 namespace fs = std::filesystem;
-using namespace body_scan::calib;
+using namespace body_scan_calib;
 
 namespace {
 
@@ -171,7 +171,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   const CameraCalibrationResult& r = report.result;
-  const body_scan::PinholeCamera& c = r.camera;
+  const body_scan_driver::PinholeCamera& c = r.camera;
   std::printf("alpha (fx) %10.3f +- %.3f px\n", c.alpha, r.std_devs[0]);
   std::printf("beta  (fy) %10.3f +- %.3f px\n", c.beta, r.std_devs[1]);
   std::printf("gamma      %10.4f +- %.4f px%s\n", c.gamma, r.std_devs[2],

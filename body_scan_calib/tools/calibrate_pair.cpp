@@ -17,7 +17,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
-using namespace body_scan;
+using namespace body_scan_driver;
 namespace fs = std::filesystem;
 
 namespace {
@@ -106,68 +106,73 @@ int main(int argc, char** argv) {
   }
   try {
     const auto start = std::chrono::steady_clock::now();
-    calib::PairCalibrationOptions options;
+    body_scan_calib::PairCalibrationOptions options;
     options.joint_refinement = arguments.refinement;
     std::vector<std::vector<cv::Mat>> pose_frames;
     std::vector<cv::Mat> sphere_frames, sphere_single_frames;
     std::vector<Eigen::Vector3d> true_centers;
-    const std::vector<Eigen::Vector3d> nominal_centers = calib::rig::defaultSphereCenters();
+    const std::vector<Eigen::Vector3d> nominal_centers =
+        body_scan_calib::rig::defaultSphereCenters();
     constexpr double kSphereRadius = 0.025;
-    std::unique_ptr<PairCalibration> truth;
-    std::unique_ptr<PatternLayout> layout;
+    std::unique_ptr<body_scan_driver::PairCalibration> truth;
+    std::unique_ptr<body_scan_driver::PatternLayout> layout;
     if (!arguments.pair_id.empty()) options.pair_id = arguments.pair_id;
 
     if (arguments.live) {
-      sim::VirtualPairConfig config = arguments.pair.empty()
-                                          ? sim::VirtualPairConfig{}
-                                          : sim::loadVirtualPairConfig(arguments.pair);
+      body_scan_driver::sim::VirtualPairConfig config =
+          arguments.pair.empty() ? body_scan_driver::sim::VirtualPairConfig{}
+                                 : body_scan_driver::sim::loadVirtualPairConfig(arguments.pair);
       if (arguments.pair_id.empty()) options.pair_id = config.pair_id;
-      layout = std::make_unique<PatternLayout>(config.bits, config.inverse_frames);
-      const auto poses = calib::rig::defaultBoardPoses();
+      layout =
+          std::make_unique<body_scan_driver::PatternLayout>(config.bits, config.inverse_frames);
+      const auto poses = body_scan_calib::rig::defaultBoardPoses();
       for (size_t pose = 0; pose < poses.size(); ++pose) {
         std::cout << "placing the board in pose " << pose + 1 << "/" << poses.size()
                   << ", capturing " << arguments.exposures << " exposures" << std::endl;
-        const sim::VirtualPair pair(
-            config, calib::rig::boardScene(options.board, poses[pose], config.world_from_camera));
-        pose_frames.push_back(calib::rig::captureAveraged(pair, arguments.exposures,
-                                                          static_cast<uint32_t>(1000 * pose)));
+        const body_scan_driver::sim::VirtualPair pair(
+            config,
+            body_scan_calib::rig::boardScene(options.board, poses[pose], config.world_from_camera));
+        pose_frames.push_back(body_scan_calib::rig::captureAveraged(
+            pair, arguments.exposures, static_cast<uint32_t>(1000 * pose)));
         if (!arguments.save_images.empty())
-          calib::savePatternFrames(
-              (fs::path(arguments.save_images) / calib::poseFolderName(static_cast<int>(pose)))
+          body_scan_calib::savePatternFrames(
+              (fs::path(arguments.save_images) /
+               body_scan_calib::poseFolderName(static_cast<int>(pose)))
                   .string(),
               pose_frames.back());
       }
       std::cout << "placing the five evaluation spheres, capturing " << arguments.exposures
                 << " exposures" << std::endl;
-      const sim::VirtualPair sphere_pair(
-          config,
-          calib::rig::sphereScene(nominal_centers, kSphereRadius, config.world_from_camera));
-      sphere_frames = calib::rig::captureAveraged(sphere_pair, arguments.exposures, 90000);
-      sphere_single_frames = calib::rig::captureAveraged(sphere_pair, 1, 99000);
+      const body_scan_driver::sim::VirtualPair sphere_pair(
+          config, body_scan_calib::rig::sphereScene(nominal_centers, kSphereRadius,
+                                                    config.world_from_camera));
+      sphere_frames =
+          body_scan_calib::rig::captureAveraged(sphere_pair, arguments.exposures, 90000);
+      sphere_single_frames = body_scan_calib::rig::captureAveraged(sphere_pair, 1, 99000);
       if (!arguments.save_images.empty())
-        calib::savePatternFrames((fs::path(arguments.save_images) / "spheres").string(),
-                                 sphere_frames);
+        body_scan_calib::savePatternFrames((fs::path(arguments.save_images) / "spheres").string(),
+                                           sphere_frames);
       true_centers = nominal_centers;  // the simulator places them exactly
-      truth = std::make_unique<PairCalibration>(sphere_pair.factoryCalibration());
+      truth = std::make_unique<body_scan_driver::PairCalibration>(sphere_pair.factoryCalibration());
     } else {
-      layout = std::make_unique<PatternLayout>(arguments.bits, true);
+      layout = std::make_unique<body_scan_driver::PatternLayout>(arguments.bits, true);
       std::cout << "reading " << arguments.images << std::endl;
-      pose_frames = calib::loadPoseCaptures(arguments.images, *layout);
+      pose_frames = body_scan_calib::loadPoseCaptures(arguments.images, *layout);
       const fs::path spheres = fs::path(arguments.images) / "spheres";
       if (fs::is_directory(spheres))
-        sphere_frames = calib::loadPatternFrames(spheres.string(), *layout);
+        sphere_frames = body_scan_calib::loadPatternFrames(spheres.string(), *layout);
     }
 
     std::cout << "calibrating from " << pose_frames.size() << " reference-plane poses" << std::endl;
-    const calib::PairCalibrationOutcome outcome =
-        calib::calibratePair(pose_frames, *layout, options, progress);
+    const body_scan_calib::PairCalibrationOutcome outcome =
+        body_scan_calib::calibratePair(pose_frames, *layout, options, progress);
     for (int stripe : outcome.planes.missing_stripes)
       std::cout << "  stripe " << stripe << " seen on " << outcome.planes.poses_per_stripe[stripe]
                 << " poses: not calibrated (NaN plane; it triangulates to nothing)\n";
     saveCalibration(arguments.output, outcome.calibration);
     std::cout << "wrote " << arguments.output << std::endl;
 
-    std::vector<calib::AccuracyEvaluation> evaluations;
+    std::vector<body_scan_calib::AccuracyEvaluation> evaluations;
     std::vector<std::string> notes = {
         "E_s (thesis eq 3.31) of the ideal sphere (radius fixed at 25 mm) fitted to each "
         "sphere's points, per model; spheres numbered top left to bottom right (Fig 3.7).",
@@ -177,11 +182,11 @@ int main(int argc, char** argv) {
             "count); both models triangulate the same decoded stripe image."};
     if (!sphere_frames.empty()) {
       std::cout << "evaluating on the five spheres" << std::endl;
-      evaluations.push_back(calib::evaluateSphereAccuracy(
+      evaluations.push_back(body_scan_calib::evaluateSphereAccuracy(
           outcome.calibration, outcome.pinhole_calibration, sphere_frames, *layout, nominal_centers,
           true_centers, kSphereRadius, arguments.exposures));
       if (!sphere_single_frames.empty()) {
-        evaluations.push_back(calib::evaluateSphereAccuracy(
+        evaluations.push_back(body_scan_calib::evaluateSphereAccuracy(
             outcome.calibration, outcome.pinhole_calibration, sphere_single_frames, *layout,
             nominal_centers, true_centers, kSphereRadius, 1));
         notes.push_back(
@@ -191,7 +196,7 @@ int main(int argc, char** argv) {
       if (truth) {
         // The same capture triangulated with the simulator's true planes and camera: what
         // decoding alone costs, the floor any calibration can reach.
-        const calib::AccuracyEvaluation floor = calib::evaluateSphereAccuracy(
+        const body_scan_calib::AccuracyEvaluation floor = body_scan_calib::evaluateSphereAccuracy(
             *truth, outcome.pinhole_calibration, sphere_frames, *layout, nominal_centers,
             true_centers, kSphereRadius, arguments.exposures);
         char note[256];
@@ -202,10 +207,10 @@ int main(int argc, char** argv) {
         notes.push_back(note);
         std::cout << "  " << note << std::endl;
       }
-      for (const calib::AccuracyEvaluation& evaluation : evaluations) {
+      for (const body_scan_calib::AccuracyEvaluation& evaluation : evaluations) {
         std::printf("  E_s [mm^2], %d exposure(s) per pattern\n  sphere   pinhole   plane\n",
                     evaluation.exposures);
-        for (const calib::SphereAccuracy& row : evaluation.spheres)
+        for (const body_scan_calib::SphereAccuracy& row : evaluation.spheres)
           std::printf("  %6d  %8.4f  %8.4f\n", row.number, row.pinhole_model.e_s_m2 * 1e6,
                       row.plane_model.e_s_m2 * 1e6);
         std::printf("  mean    %8.4f  %8.4f  (plane model %.1f%% lower)\n",
@@ -215,11 +220,12 @@ int main(int argc, char** argv) {
     } else {
       notes.push_back("No sphere capture (FOLDER/spheres): accuracy not evaluated.");
     }
-    writeFileAtomically(arguments.report, calib::accuracyReportYaml(outcome, evaluations, notes));
+    writeFileAtomically(arguments.report,
+                        body_scan_calib::accuracyReportYaml(outcome, evaluations, notes));
     std::cout << "wrote " << arguments.report << std::endl;
-    calib::writePngAtomically(arguments.plot,
-                              calib::plotProjectorParameters(outcome.calibration.projector,
-                                                             truth ? &truth->projector : nullptr));
+    body_scan_calib::writePngAtomically(
+        arguments.plot, body_scan_calib::plotProjectorParameters(
+                            outcome.calibration.projector, truth ? &truth->projector : nullptr));
     std::cout << "wrote " << arguments.plot << " ("
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
               << " s)" << std::endl;

@@ -26,7 +26,7 @@
 #include <memory>
 #include <mutex>
 
-using namespace body_scan;
+using namespace body_scan_driver;
 namespace fs = std::filesystem;
 
 namespace {
@@ -92,22 +92,23 @@ std::string describeBoardPose(const Eigen::Isometry3d& pose) {
 
 std::vector<Placement> placements(const Settings& settings,
                                   const Eigen::Isometry3d& world_from_camera) {
-  const calib::Checkerboard board = calib::referenceBoard();  // calibrate_pair's board
-  std::vector<Eigen::Isometry3d> poses = calib::rig::defaultBoardPoses();
+  const body_scan_calib::Checkerboard board =
+      body_scan_calib::referenceBoard();  // calibrate_pair's board
+  std::vector<Eigen::Isometry3d> poses = body_scan_calib::rig::defaultBoardPoses();
   if (settings.pose_count > 0 && settings.pose_count < static_cast<int>(poses.size()))
     poses.resize(settings.pose_count);
   std::vector<Placement> result;
   for (size_t p = 0; p < poses.size(); ++p)
     result.push_back({"pose " + std::to_string(p + 1) + "/" + std::to_string(poses.size()),
-                      calib::poseFolderName(static_cast<int>(p)),
-                      calib::boardSceneYaml(board, poses[p], world_from_camera),
+                      body_scan_calib::poseFolderName(static_cast<int>(p)),
+                      body_scan_calib::boardSceneYaml(board, poses[p], world_from_camera),
                       "place the board (" + std::to_string(board.inner_cols) + "x" +
                           std::to_string(board.inner_rows) + " inner corners) with its " +
                           describeBoardPose(poses[p])});
   if (settings.spheres) {
-    const auto centers = calib::rig::defaultSphereCenters();
-    result.push_back({"spheres", calib::kSphereFolderName,
-                      calib::sphereSceneYaml(centers, 0.025, world_from_camera),
+    const auto centers = body_scan_calib::rig::defaultSphereCenters();
+    result.push_back({"spheres", body_scan_calib::kSphereFolderName,
+                      body_scan_calib::sphereSceneYaml(centers, 0.025, world_from_camera),
                       "remove the board; place the five 25 mm spheres about 1 m in front of the "
                       "pair, one in the centre and one toward each image corner (Fig 3.7)"});
   }
@@ -190,10 +191,10 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
 
   Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();
   if (settings.targets == "sim")
-    world_from_camera =
-        (settings.pair_file.empty() ? sim::VirtualPairConfig{}
-                                    : sim::loadVirtualPairConfig(settings.pair_file))
-            .world_from_camera;
+    world_from_camera = (settings.pair_file.empty()
+                             ? body_scan_driver::sim::VirtualPairConfig{}
+                             : body_scan_driver::sim::loadVirtualPairConfig(settings.pair_file))
+                            .world_from_camera;
   const std::vector<Placement> plan = placements(settings, world_from_camera);
 
   PatternSetWaiter waiter;
@@ -222,7 +223,7 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
 
   // Captures of an earlier run (more poses, spheres) would be read with this run's.
   if (!settings.folder.empty()) {
-    const int removed = calib::removeOldCaptures(settings.folder);
+    const int removed = body_scan_calib::removeOldCaptures(settings.folder);
     if (removed > 0)
       std::cout << "removed " << removed << " capture folders of an earlier run from "
                 << settings.folder << std::endl;
@@ -275,11 +276,11 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
       bits = set->bits;
       if (pair_id.empty()) pair_id = set->pair_id;
       if (bag) bag->write(pattern_sub.getTopic(), ros::Time::now(), *set);
-      if (!settings.folder.empty()) captures.push_back(calib::patternFrames(*set));
+      if (!settings.folder.empty()) captures.push_back(body_scan_calib::patternFrames(*set));
     }
     if (!settings.folder.empty()) {
       const std::string folder = (fs::path(settings.folder) / placement.folder_name).string();
-      calib::savePatternFrames(folder, calib::averageCaptures(captures));
+      body_scan_calib::savePatternFrames(folder, body_scan_calib::averageCaptures(captures));
       std::cout << "    wrote " << folder << std::endl;
     }
   }

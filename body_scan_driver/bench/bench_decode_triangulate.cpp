@@ -25,7 +25,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/structured_light/graycodepattern.hpp>
 
-using namespace body_scan;
+using namespace body_scan_driver;
 
 namespace {
 

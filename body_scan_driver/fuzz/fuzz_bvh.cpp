@@ -9,7 +9,7 @@
 #include <string>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  using namespace body_scan::sim;
+  using namespace body_scan_driver::sim;
   const std::string text(reinterpret_cast<const char*>(data), size);
   BvhMotion motion;
   try {

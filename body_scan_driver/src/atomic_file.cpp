@@ -5,7 +5,7 @@
 #include <fstream>
 #include <system_error>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 void writeFileAtomically(const std::string& path, const std::string& contents) {
   const std::filesystem::path target(path);
@@ -33,4 +33,4 @@ void writeFileAtomically(const std::string& path, const std::string& contents) {
   }
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

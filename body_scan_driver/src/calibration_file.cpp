@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-namespace body_scan {
+namespace body_scan_driver {
 namespace {
 
 YAML::Node matrixNode(int rows, int cols, const std::vector<double>& data) {
@@ -183,4 +183,4 @@ void saveCalibration(const std::string& path, const PairCalibration& calibration
   }
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

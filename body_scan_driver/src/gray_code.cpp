@@ -2,7 +2,7 @@
 
 #include <string>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 PatternLayout::PatternLayout(int bits, bool inverse_frames)
     : bits_(bits), inverse_frames_(inverse_frames) {
@@ -33,4 +33,4 @@ int PatternLayout::bitBetween(uint32_t stripe) const {
   return bits_ - 1 - position;
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

@@ -6,7 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 Eigen::Vector2d PinholeCamera::distortedPixel(const Eigen::Vector2d& normalized) const {
   const double r2 = normalized.squaredNorm();
@@ -82,4 +82,4 @@ Eigen::Vector3d intersectRayPlane(const Eigen::Vector2d& normalized, const Eigen
   return {normalized.x() * z, normalized.y() * z, z};
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 SimdLevel detectedSimdLevel() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -43,4 +43,4 @@ std::string simdLevelName(SimdLevel level) {
   return "unknown";
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

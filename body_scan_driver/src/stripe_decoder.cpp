@@ -9,7 +9,7 @@
 
 #include "stripe_decoder_internal.h"
 
-namespace body_scan {
+namespace body_scan_driver {
 namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
@@ -279,4 +279,4 @@ void StripeDecoder::interpolateBoundaries(const FrameRows& frame_rows, StripeIma
       flush(states[line], line, length - 1, Boundary{});
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

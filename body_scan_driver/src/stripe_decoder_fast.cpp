@@ -28,7 +28,7 @@
 #define BODY_SCAN_TARGET_AVX2 __attribute__((target("avx2")))
 #define BODY_SCAN_TARGET_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq")))
 
-namespace body_scan {
+namespace body_scan_driver {
 namespace {
 
 constexpr uint32_t kNaNBits = 0x7FC00000u;  // the reference's quiet_NaN()
@@ -650,4 +650,4 @@ void StripeDecoder::interpolateBoundariesFast(const FrameRows& frame_rows, Strip
   }
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

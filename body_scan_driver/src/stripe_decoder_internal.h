@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 // Row-major byte pointers of the frames a bit decision reads. The signed bit signal is
 // pattern - inverse, or 2 pattern - (lit + dark) without inverse frames: its sign is the bit
@@ -22,4 +22,4 @@ struct StripeDecoder::FrameRows {
   }
 };
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 namespace {
 
@@ -323,4 +323,4 @@ size_t Triangulator::triangulate(const cv::Mat1f& coordinate, float* out,
   return triangulateSse2(rows);
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

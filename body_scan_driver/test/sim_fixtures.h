@@ -5,7 +5,7 @@
 
 #include <memory>
 
-namespace body_scan::test {
+namespace body_scan_driver::test {
 
 inline sim::VirtualPairConfig pairLookingAlongX(double noise_sigma = 2.0) {
   sim::VirtualPairConfig config;
@@ -23,4 +23,4 @@ inline std::shared_ptr<sim::Scene> planeScene(double distance, double albedo = 0
   return scene;
 }
 
-}  // namespace body_scan::test
+}  // namespace body_scan_driver::test

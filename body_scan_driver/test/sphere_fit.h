@@ -5,7 +5,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
-namespace body_scan::test {
+namespace body_scan_driver::test {
 
 struct SphereFit {
   Eigen::Vector3d center;
@@ -44,4 +44,4 @@ inline SphereFit fitSphere(const std::vector<Eigen::Vector3d>& points) {
   return fit;
 }
 
-}  // namespace body_scan::test
+}  // namespace body_scan_driver::test

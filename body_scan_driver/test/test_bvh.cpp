@@ -13,7 +13,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 namespace {
 
 namespace fs = std::filesystem;
@@ -187,4 +187,4 @@ TEST(Bvh, FuzzEntryPointAcceptsTheSeedCorpus) {
 }
 
 }  // namespace
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

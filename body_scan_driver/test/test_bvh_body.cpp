@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 namespace {
 
 namespace fs = std::filesystem;
@@ -317,4 +317,4 @@ TEST(ParseBvhWalkFile, PersonFromTheCmuNameOrGiven) {
 }
 
 }  // namespace
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

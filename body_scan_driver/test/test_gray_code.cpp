@@ -3,12 +3,12 @@
 
 #include <bitset>
 
-using body_scan::grayDecode;
-using body_scan::grayEncode;
-using body_scan::PatternLayout;
+using body_scan_driver::grayDecode;
+using body_scan_driver::grayEncode;
+using body_scan_driver::PatternLayout;
 
 TEST(GrayCode, RoundTripForEveryBitCount) {
-  for (int bits = body_scan::kMinBits; bits <= body_scan::kMaxBits; ++bits) {
+  for (int bits = body_scan_driver::kMinBits; bits <= body_scan_driver::kMaxBits; ++bits) {
     const PatternLayout layout(bits, true);
     for (uint32_t stripe = 0; stripe < static_cast<uint32_t>(layout.stripeCount()); ++stripe) {
       const uint32_t gray = grayEncode(stripe);

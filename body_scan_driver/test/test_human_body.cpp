@@ -10,7 +10,7 @@
 #include <random>
 #include <set>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -404,4 +404,4 @@ TEST(HumanBodyFromYaml, ReadsTheExampleScene) {
 }
 
 }  // namespace
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

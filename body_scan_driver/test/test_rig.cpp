@@ -10,7 +10,7 @@
 #include <fstream>
 #include <opencv2/core.hpp>
 
-using namespace body_scan;
+using namespace body_scan_driver;
 
 namespace {
 

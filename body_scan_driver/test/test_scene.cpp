@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
-using namespace body_scan::sim;
+using namespace body_scan_driver::sim;
 
 namespace {
 

@@ -8,7 +8,7 @@
 
 #include "sim_fixtures.h"
 
-using namespace body_scan;
+using namespace body_scan_driver;
 
 namespace {
 

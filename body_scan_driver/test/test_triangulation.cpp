@@ -10,7 +10,7 @@
 #include "sim_fixtures.h"
 #include "sphere_fit.h"
 
-using namespace body_scan;
+using namespace body_scan_driver;
 
 namespace {
 

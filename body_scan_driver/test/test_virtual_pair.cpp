@@ -9,7 +9,7 @@
 
 #include "sim_fixtures.h"
 
-using namespace body_scan;
+using namespace body_scan_driver;
 
 TEST(VirtualPair, StripePlanesDoNotShareOneLine) {
   // A pinhole projector's planes all contain one line through its centre. Ours do not: the

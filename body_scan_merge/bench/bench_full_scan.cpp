@@ -21,15 +21,16 @@
 #include <opencv2/structured_light/graycodepattern.hpp>
 #include <thread>
 
-using namespace body_scan;
+using namespace body_scan_merge;
+using namespace body_scan_driver;
 
 namespace {
 
 struct RigScan {
   std::vector<std::vector<cv::Mat>> frames;  // per pair
-  std::vector<std::unique_ptr<Triangulator>> triangulators;
+  std::vector<std::unique_ptr<body_scan_driver::Triangulator>> triangulators;
   std::vector<Eigen::Isometry3d> poses;
-  PatternLayout layout{8, true};
+  body_scan_driver::PatternLayout layout{8, true};
   std::vector<std::vector<float>> clouds;  // per pair, x y z rgb
 };
 
@@ -37,13 +38,15 @@ RigScan& rigScan() {
   static RigScan scan = [] {
     cv::setNumThreads(2);
     RigScan s;
-    const sim::Rig rig = sim::loadRig(BODY_SCAN_DRIVER_CONFIG_DIR "/rigs/thesis_rig.yaml");
-    auto scene = std::make_shared<sim::Scene>(
-        sim::loadScene(BODY_SCAN_DRIVER_CONFIG_DIR "/scenes/standing_person.yaml"));
-    for (const sim::VirtualPairConfig& config : rig.pairs) {
-      const sim::VirtualPair pair(config, scene);
+    const body_scan_driver::sim::Rig rig =
+        body_scan_driver::sim::loadRig(BODY_SCAN_DRIVER_CONFIG_DIR "/rigs/thesis_rig.yaml");
+    auto scene = std::make_shared<body_scan_driver::sim::Scene>(body_scan_driver::sim::loadScene(
+        BODY_SCAN_DRIVER_CONFIG_DIR "/scenes/standing_person.yaml"));
+    for (const body_scan_driver::sim::VirtualPairConfig& config : rig.pairs) {
+      const body_scan_driver::sim::VirtualPair pair(config, scene);
       s.frames.push_back(pair.render(1).frames);
-      s.triangulators.push_back(std::make_unique<Triangulator>(pair.factoryCalibration()));
+      s.triangulators.push_back(
+          std::make_unique<body_scan_driver::Triangulator>(pair.factoryCalibration()));
       s.poses.push_back(config.world_from_camera);
       s.clouds.emplace_back(640 * 480 * 4, 0.f);
     }
@@ -92,8 +95,8 @@ MergedCloud scanAndMerge(RigScan& s, DecodeTriangulate decode_triangulate) {
 }
 
 void decodeTriangulateOurs(RigScan& s, size_t pair) {
-  thread_local StripeImage stripes;  // one per thread, reused like Triangulate's
-  thread_local StripeDecoder decoder(PatternLayout(8, true));
+  thread_local body_scan_driver::StripeImage stripes;  // one per thread, reused like Triangulate's
+  thread_local body_scan_driver::StripeDecoder decoder(body_scan_driver::PatternLayout(8, true));
   decoder.decode(s.frames[pair], stripes);
   s.triangulators[pair]->triangulate(stripes.coordinate, s.clouds[pair].data(), 4);
 }
@@ -108,7 +111,7 @@ void ours(benchmark::State& state) {
   for (auto _ : state)
     points = scanAndMerge(s, [&](size_t i) { decodeTriangulateOurs(s, i); }).size();
   state.counters["points"] = static_cast<double>(points);
-  state.SetLabel(simdLevelName(detectedSimdLevel()));
+  state.SetLabel(body_scan_driver::simdLevelName(body_scan_driver::detectedSimdLevel()));
 }
 
 void decodeTriangulate(benchmark::State& state) {

@@ -11,7 +11,7 @@
 #include <limits>
 #include <thread>
 
-namespace body_scan {
+namespace body_scan_merge {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -317,4 +317,4 @@ MergedCloud mergeClouds(const std::vector<CloudView>& parts, const MergeOptions&
   return CloudMerger().merge(parts, options);
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_merge

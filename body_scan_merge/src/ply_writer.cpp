@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_merge {
 
 namespace {
 
@@ -48,7 +48,7 @@ size_t writePly(const std::string& path, const float* points, size_t count, size
       "property uchar red\nproperty uchar green\nproperty uchar blue\n"
       "end_header\n";
   header.append(reinterpret_cast<const char*>(vertices.data()), vertices.size() * sizeof(Vertex));
-  writeFileAtomically(path, header);
+  body_scan_driver::writeFileAtomically(path, header);
   return vertices.size();
 }
 
@@ -121,8 +121,8 @@ size_t writePcd(const std::string& path, const float* points, size_t count, size
       "SIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\nWIDTH " +
       n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n + "\nDATA binary\n";
   file.append(reinterpret_cast<const char*>(body.data()), body.size() * sizeof(float));
-  writeFileAtomically(path, file);
+  body_scan_driver::writeFileAtomically(path, file);
   return body.size() / 4;
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_merge

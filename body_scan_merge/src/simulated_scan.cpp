@@ -9,27 +9,28 @@
 #include <map>
 #include <stdexcept>
 
-namespace body_scan {
+namespace body_scan_merge {
 
-TimingGroupList eachPairAlone(const sim::Rig& rig) {
+TimingGroupList eachPairAlone(const body_scan_driver::sim::Rig& rig) {
   TimingGroupList groups;
   for (const auto& id : rig.pairIds()) groups.push_back({id});
   return groups;
 }
 
-TimingGroupList allPairsTogether(const sim::Rig& rig) { return {rig.pairIds()}; }
+TimingGroupList allPairsTogether(const body_scan_driver::sim::Rig& rig) { return {rig.pairIds()}; }
 
-std::vector<PairGeometry> rigFactoryGeometry(const sim::Rig& rig) {
-  auto empty = std::make_shared<sim::Scene>();
+std::vector<PairGeometry> rigFactoryGeometry(const body_scan_driver::sim::Rig& rig) {
+  auto empty = std::make_shared<body_scan_driver::sim::Scene>();
   std::vector<PairGeometry> pairs;
   for (const auto& config : rig.pairs)
-    pairs.push_back({config.pair_id,
-                     sim::VirtualPair::projectorOnly(config, empty).factoryCalibration(),
-                     config.world_from_camera});
+    pairs.push_back(
+        {config.pair_id,
+         body_scan_driver::sim::VirtualPair::projectorOnly(config, empty).factoryCalibration(),
+         config.world_from_camera});
   return pairs;
 }
 
-TimingGroupList plannedTimingGroups(const sim::Rig& rig) {
+TimingGroupList plannedTimingGroups(const body_scan_driver::sim::Rig& rig) {
   return planTimingGroups(rigFactoryGeometry(rig)).groups;
 }
 
@@ -54,7 +55,8 @@ TimingGroupList loadTimingGroups(const std::string& path) {
   return groups;
 }
 
-SimulatedScan simulateScan(const sim::Rig& rig, const std::shared_ptr<const sim::Scene>& scene,
+SimulatedScan simulateScan(const body_scan_driver::sim::Rig& rig,
+                           const std::shared_ptr<const body_scan_driver::sim::Scene>& scene,
                            const TimingGroupList& groups, uint32_t scan_id,
                            const MergeOptions& merge) {
   std::map<std::string, int> seen;
@@ -69,11 +71,11 @@ SimulatedScan simulateScan(const sim::Rig& rig, const std::shared_ptr<const sim:
       throw std::invalid_argument("timing groups: pair '" + id +
                                   "' is in no group; every rig pair must be triggered once");
 
-  std::vector<sim::VirtualPair> projectors;
+  std::vector<body_scan_driver::sim::VirtualPair> projectors;
   projectors.reserve(rig.pairs.size());
   for (const auto& config : rig.pairs)
-    projectors.push_back(sim::VirtualPair::projectorOnly(config, scene));
-  auto projector = [&](const std::string& id) -> const sim::VirtualPair* {
+    projectors.push_back(body_scan_driver::sim::VirtualPair::projectorOnly(config, scene));
+  auto projector = [&](const std::string& id) -> const body_scan_driver::sim::VirtualPair* {
     for (const auto& p : projectors)
       if (p.config().pair_id == id) return &p;
     return nullptr;
@@ -82,19 +84,20 @@ SimulatedScan simulateScan(const sim::Rig& rig, const std::shared_ptr<const sim:
   // Each pair's organized cloud (x y z, NaN = none), kept until the merge, in rig order.
   std::map<std::string, std::vector<float>> clouds;
   for (const auto& group : groups) {
-    std::vector<const sim::VirtualPair*> members;
+    std::vector<const body_scan_driver::sim::VirtualPair*> members;
     for (const auto& id : group) members.push_back(projector(id));
     for (const auto& id : group) {
-      const sim::VirtualPair pair(rig.pair(id), scene);
-      std::vector<const sim::VirtualPair*> others;
+      const body_scan_driver::sim::VirtualPair pair(rig.pair(id), scene);
+      std::vector<const body_scan_driver::sim::VirtualPair*> others;
       for (const auto* m : members)
         if (m->config().pair_id != id) others.push_back(m);
-      const sim::RenderedPatternSet set = pair.render(scan_id, others);
-      StripeImage decoded;
-      StripeDecoder(pair.layout()).decode(set.frames, decoded);
+      const body_scan_driver::sim::RenderedPatternSet set = pair.render(scan_id, others);
+      body_scan_driver::StripeImage decoded;
+      body_scan_driver::StripeDecoder(pair.layout()).decode(set.frames, decoded);
       std::vector<float>& xyz = clouds[id];
       xyz.resize(3 * decoded.coordinate.total());
-      Triangulator(pair.factoryCalibration()).triangulate(decoded.coordinate, xyz.data(), 3);
+      body_scan_driver::Triangulator(pair.factoryCalibration())
+          .triangulate(decoded.coordinate, xyz.data(), 3);
     }
   }
   std::vector<CloudView> views;
@@ -109,4 +112,4 @@ SimulatedScan simulateScan(const sim::Rig& rig, const std::shared_ptr<const sim:
   return scan;
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_merge

@@ -5,7 +5,7 @@
 #include <functional>
 #include <stdexcept>
 
-namespace body_scan {
+namespace body_scan_merge {
 namespace {
 
 struct SurfacePoint {
@@ -63,7 +63,7 @@ std::vector<SurfacePoint> sampleProxy(const InterferenceProxy& proxy) {
 }
 
 // Where the projector's light leaves: the point closest (least squares) to all its planes.
-Eigen::Vector3d projectorSource(const StripePlaneProjector& projector) {
+Eigen::Vector3d projectorSource(const body_scan_driver::StripePlaneProjector& projector) {
   Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   int used = 0;
@@ -88,7 +88,7 @@ struct PairView {
   Eigen::Vector3d source_world;
   // Camera frame, finite, unit normals oriented so the swept wedge is where both are >= 0.
   Eigen::Vector4d first_plane, last_plane;
-  PinholeCamera camera;
+  body_scan_driver::PinholeCamera camera;
 };
 
 PairView pairView(const PairGeometry& pair) {
@@ -260,4 +260,4 @@ TimingPlan planTimingGroups(const std::vector<PairGeometry>& pairs,
   return plan;
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_merge

@@ -9,7 +9,7 @@
 #include <thread>
 #include <tuple>
 
-using namespace body_scan;
+using namespace body_scan_merge;
 
 namespace {
 

@@ -12,7 +12,8 @@
 #include <filesystem>
 #include <fstream>
 
-using namespace body_scan;
+using namespace body_scan_merge;
+using namespace body_scan_driver;
 namespace fs = std::filesystem;
 
 namespace {
@@ -46,7 +47,7 @@ TEST(PlanTimingGroups, ReportsTheLibrarysPlanWithPosesFromAlignmentOrRig) {
   const fs::path dir =
       fs::temp_directory_path() / ("plan_timing_groups_" + std::to_string(getpid()));
   fs::create_directories(dir);
-  const sim::Rig rig = sim::loadRig(kRig);
+  const body_scan_driver::sim::Rig rig = body_scan_driver::sim::loadRig(kRig);
   const std::vector<PairGeometry> truth = rigFactoryGeometry(rig);
   for (const PairGeometry& pair : truth)
     saveCalibration((dir / (fileStem(pair.pair_id) + "_factory.yaml")).string(), pair.calibration);
@@ -72,7 +73,7 @@ TEST(PlanTimingGroups, ReportsTheLibrarysPlanWithPosesFromAlignmentOrRig) {
     if (pair.pair_id.rfind("pole_c/", 0) == 0)
       pair.world_from_camera = raised * pair.world_from_camera;
     pair.calibration.alignment =
-        WorldAlignment{pair.world_from_camera, Eigen::Matrix3d::Identity()};
+        body_scan_driver::WorldAlignment{pair.world_from_camera, Eigen::Matrix3d::Identity()};
     saveCalibration((dir / (fileStem(pair.pair_id) + ".yaml")).string(), pair.calibration);
   }
   const auto [aligned_status, aligned_report] = plan(dir, "");

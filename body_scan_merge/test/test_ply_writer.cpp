@@ -16,7 +16,7 @@ TEST(PlyWriter, WritesFinitePointsWithColourAndAHeaderThatCountsThem) {
   const std::vector<float> cloud = {0.1f, 0.2f, 1.0f,  rgb,   nan,  nan,
                                     nan,  rgb,  -0.5f, 0.25f, 2.0f, rgb};
   const std::string path = std::filesystem::temp_directory_path() / "body_scan_test_cloud.ply";
-  ASSERT_EQ(body_scan::writePly(path, cloud.data(), 3, 4, 3), 2u);
+  ASSERT_EQ(body_scan_merge::writePly(path, cloud.data(), 3, 4, 3), 2u);
 
   std::ifstream file(path, std::ios::binary);
   const std::string content((std::istreambuf_iterator<char>(file)),
@@ -32,7 +32,7 @@ TEST(PlyWriter, WritesFinitePointsWithColourAndAHeaderThatCountsThem) {
   EXPECT_EQ(static_cast<uint8_t>(content[body + 12]), 0x10);  // red
   EXPECT_EQ(static_cast<uint8_t>(content[body + 14]), 0xF0);  // blue
   // And back.
-  const std::vector<float> read = body_scan::readPly(path);
+  const std::vector<float> read = body_scan_merge::readPly(path);
   ASSERT_EQ(read.size(), 8u);
   EXPECT_FLOAT_EQ(read[4], -0.5f);
   EXPECT_FLOAT_EQ(read[6], 2.0f);
@@ -41,7 +41,7 @@ TEST(PlyWriter, WritesFinitePointsWithColourAndAHeaderThatCountsThem) {
   EXPECT_EQ(rgb_read, packed);
   std::ofstream(path, std::ios::app) << "x";  // trailing bytes are fine; a short file is not
   std::filesystem::resize_file(path, content.size() - 1);
-  EXPECT_THROW(body_scan::readPly(path), std::runtime_error);
+  EXPECT_THROW(body_scan_merge::readPly(path), std::runtime_error);
   std::filesystem::remove(path);
 }
 
@@ -52,7 +52,7 @@ TEST(PcdWriter, WritesABinaryPcdWithTheFinitePointsAndTheirPackedColour) {
   std::memcpy(&rgb, &packed, sizeof rgb);
   const std::vector<float> cloud = {0.1f, 0.2f, 1.0f, rgb, nan, 0, 0, rgb, -0.5f, 0.25f, 2.0f, rgb};
   const std::string path = std::filesystem::temp_directory_path() / "body_scan_test_cloud.pcd";
-  ASSERT_EQ(body_scan::writePcd(path, cloud.data(), 3, 4, 3), 2u);
+  ASSERT_EQ(body_scan_merge::writePcd(path, cloud.data(), 3, 4, 3), 2u);
 
   std::ifstream file(path, std::ios::binary);
   const std::string content((std::istreambuf_iterator<char>(file)),
@@ -75,7 +75,7 @@ TEST(PcdWriter, WritesABinaryPcdWithTheFinitePointsAndTheirPackedColour) {
 TEST(PlyWriter, UnwritablePathNamesThePath) {
   const float point[3] = {0, 0, 1};
   try {
-    body_scan::writePly("/proc/body_scan_forbidden/cloud.ply", point, 1, 3, -1);
+    body_scan_merge::writePly("/proc/body_scan_forbidden/cloud.ply", point, 1, 3, -1);
     FAIL() << "no error";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("body_scan_forbidden"), std::string::npos) << e.what();

@@ -4,8 +4,8 @@
 
 #include <random>
 
-using namespace body_scan;
-using namespace body_scan::eval;
+using namespace body_scan_merge;
+using namespace body_scan_merge::eval;
 
 namespace {
 
@@ -34,17 +34,18 @@ std::vector<float> cloudFrom(const std::vector<SurfaceSample>& samples, double o
 class ScanAccuracyTest : public testing::Test {
  protected:
   static void SetUpTestSuite() {
-    scene_ = new sim::Scene(sim::loadScene(kDriverConfig + "/scenes/standing_person.yaml"));
+    scene_ = new body_scan_driver::sim::Scene(
+        body_scan_driver::sim::loadScene(kDriverConfig + "/scenes/standing_person.yaml"));
     samples_ = new std::vector<SurfaceSample>(sampleBodySurface(*scene_));
   }
   static void TearDownTestSuite() {
     delete samples_;
     delete scene_;
   }
-  static sim::Scene* scene_;
+  static body_scan_driver::sim::Scene* scene_;
   static std::vector<SurfaceSample>* samples_;
 };
-sim::Scene* ScanAccuracyTest::scene_ = nullptr;
+body_scan_driver::sim::Scene* ScanAccuracyTest::scene_ = nullptr;
 std::vector<SurfaceSample>* ScanAccuracyTest::samples_ = nullptr;
 
 TEST_F(ScanAccuracyTest, TheSampledSkinHasABodysAreaAndEveryRegion) {

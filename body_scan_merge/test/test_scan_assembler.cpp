@@ -1,7 +1,7 @@
 #include <body_scan_merge/scan_assembler.h>
 #include <gtest/gtest.h>
 
-using body_scan::ScanAssembler;
+using body_scan_merge::ScanAssembler;
 using Assembler = ScanAssembler<int>;
 
 TEST(ScanAssembler, AScanIsCompleteWhenEveryPairHasDeliveredInTheExpectedOrder) {

@@ -7,12 +7,13 @@
 #include <body_scan_merge/simulated_scan.h>
 #include <gtest/gtest.h>
 
-using namespace body_scan;
+using namespace body_scan_merge;
+using namespace body_scan_driver;
 
 namespace {
 const std::string kDriverConfig = BODY_SCAN_DRIVER_CONFIG_DIR;
 
-eval::ScanAccuracy evaluate(const SimulatedScan& scan, const sim::Scene& scene) {
+eval::ScanAccuracy evaluate(const SimulatedScan& scan, const body_scan_driver::sim::Scene& scene) {
   return eval::evaluateScan(scan.cloud.xyzrgb, scene);
 }
 
@@ -31,9 +32,10 @@ const eval::Region kHardRegions[] = {eval::Region::kUnderChin,     eval::Region:
 }  // namespace
 
 TEST(SimulatedScan, DefaultRigMeetsTheAccuracyAndCoverageTargets) {
-  const sim::Rig rig = sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
-  auto scene = std::make_shared<const sim::Scene>(
-      sim::loadScene(kDriverConfig + "/scenes/standing_person.yaml"));
+  const body_scan_driver::sim::Rig rig =
+      body_scan_driver::sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
+  auto scene = std::make_shared<const body_scan_driver::sim::Scene>(
+      body_scan_driver::sim::loadScene(kDriverConfig + "/scenes/standing_person.yaml"));
   const SimulatedScan scan = simulateScan(rig, scene, plannedTimingGroups(rig));
   ASSERT_EQ(scan.per_pair.size(), 12u);
   for (const auto& [id, count] : scan.per_pair) EXPECT_GT(count, 1000u) << id;
@@ -46,8 +48,9 @@ TEST(SimulatedScan, DefaultRigMeetsTheAccuracyAndCoverageTargets) {
 }
 
 TEST(SimulatedScan, GroupsMustCoverEveryPairOnce) {
-  const sim::Rig rig = sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
-  auto scene = std::make_shared<const sim::Scene>();
+  const body_scan_driver::sim::Rig rig =
+      body_scan_driver::sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
+  auto scene = std::make_shared<const body_scan_driver::sim::Scene>();
   TimingGroupList groups = eachPairAlone(rig);
   groups.pop_back();
   EXPECT_THROW(simulateScan(rig, scene, groups), std::invalid_argument);

@@ -11,23 +11,26 @@
 #include <cmath>
 #include <random>
 
-using namespace body_scan;
+using namespace body_scan_merge;
+using namespace body_scan_driver;
 
 namespace {
 
 const std::string kDriverConfig = BODY_SCAN_DRIVER_CONFIG_DIR;
 
-std::vector<PairGeometry> geometryOf(const std::vector<sim::VirtualPairConfig>& configs) {
-  sim::Rig rig;
+std::vector<PairGeometry> geometryOf(
+    const std::vector<body_scan_driver::sim::VirtualPairConfig>& configs) {
+  body_scan_driver::sim::Rig rig;
   rig.pairs = configs;
   return rigFactoryGeometry(rig);
 }
 
-sim::VirtualPairConfig pairAt(const std::string& id, const Eigen::Vector3d& position) {
-  sim::VirtualPairConfig config;
+body_scan_driver::sim::VirtualPairConfig pairAt(const std::string& id,
+                                                const Eigen::Vector3d& position) {
+  body_scan_driver::sim::VirtualPairConfig config;
   config.pair_id = id;
   config.world_from_camera =
-      sim::cameraPose(position, std::atan2(-position.y(), -position.x()), 0.0);
+      body_scan_driver::sim::cameraPose(position, std::atan2(-position.y(), -position.x()), 0.0);
   return config;
 }
 
@@ -156,7 +159,8 @@ TEST(TimingGroups, TheColouringIsMinimal) {
 // The default rig with the default subject: the computed groups keep every pair's decoding as
 // clean as when it projects alone; all 12 pairs at once corrupt it.
 TEST(TimingGroups, TheComputedGroupsOfTheDefaultRigDoNotInterfere) {
-  const sim::Rig rig = sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
+  const body_scan_driver::sim::Rig rig =
+      body_scan_driver::sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
   const TimingPlan plan = planTimingGroups(geometryOf(rig.pairs));
   std::cout << "[ figure ] default rig: " << plan.groups.size() << " timing groups (thesis: 4),"
             << " simulated acquisition " << 0.5 * plan.groups.size() << " s:";
@@ -171,28 +175,29 @@ TEST(TimingGroups, TheComputedGroupsOfTheDefaultRigDoNotInterfere) {
   EXPECT_GE(plan.groups.size(), 3u);
   EXPECT_LT(plan.groups.size(), rig.pairs.size());
 
-  auto scene =
-      std::make_shared<sim::Scene>(sim::loadScene(kDriverConfig + "/scenes/standing_person.yaml"));
-  std::vector<sim::VirtualPair> projectors;
+  auto scene = std::make_shared<body_scan_driver::sim::Scene>(
+      body_scan_driver::sim::loadScene(kDriverConfig + "/scenes/standing_person.yaml"));
+  std::vector<body_scan_driver::sim::VirtualPair> projectors;
   for (const auto& config : rig.pairs)
-    projectors.push_back(sim::VirtualPair::projectorOnly(config, scene));
+    projectors.push_back(body_scan_driver::sim::VirtualPair::projectorOnly(config, scene));
   auto projector = [&](const std::string& id) {
     for (const auto& p : projectors)
       if (p.config().pair_id == id) return &p;
     throw std::logic_error(id);
   };
-  std::vector<const sim::VirtualPair*> everyone;
+  std::vector<const body_scan_driver::sim::VirtualPair*> everyone;
   for (const auto& p : projectors) everyone.push_back(&p);
 
-  auto wrong = [&](const sim::VirtualPair& pair,
-                   const std::vector<const sim::VirtualPair*>& others) {
-    return sim::wrongStripeFraction(pair.render(1, others), *scene, pair.layout());
+  auto wrong = [&](const body_scan_driver::sim::VirtualPair& pair,
+                   const std::vector<const body_scan_driver::sim::VirtualPair*>& others) {
+    return body_scan_driver::sim::wrongStripeFraction(pair.render(1, others), *scene,
+                                                      pair.layout());
   };
   double worst_grouped = 0, worst_alone = 0, worst_all = 0;
   for (const auto& group : plan.groups)
     for (const auto& id : group) {
-      const sim::VirtualPair pair(rig.pair(id), scene);
-      std::vector<const sim::VirtualPair*> members;
+      const body_scan_driver::sim::VirtualPair pair(rig.pair(id), scene);
+      std::vector<const body_scan_driver::sim::VirtualPair*> members;
       for (const auto& other : group) members.push_back(projector(other));
       const double grouped = wrong(pair, members), alone = wrong(pair, {});
       worst_grouped = std::max(worst_grouped, grouped);
@@ -214,17 +219,18 @@ TEST(TimingGroups, TheComputedGroupsOfTheDefaultRigDoNotInterfere) {
 // not counted: pole_a/pair_1 sees the floor only beyond the proxy's floor disc (more than 1.6 m
 // from the subject), where pairs 4 of poles a and b change 5 382 and 1 103 of them.
 TEST(TimingGroups, TheConflictsIntoOnePairsViewMatchTheSimulator) {
-  const sim::Rig rig = sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
+  const body_scan_driver::sim::Rig rig =
+      body_scan_driver::sim::loadRig(kDriverConfig + "/rigs/thesis_rig.yaml");
   const auto conflicts = lightConflicts(geometryOf(rig.pairs));
-  auto scene =
-      std::make_shared<sim::Scene>(sim::loadScene(kDriverConfig + "/scenes/standing_person.yaml"));
+  auto scene = std::make_shared<body_scan_driver::sim::Scene>(
+      body_scan_driver::sim::loadScene(kDriverConfig + "/scenes/standing_person.yaml"));
   const int seer = 0;  // pole_a/pair_1
-  const sim::VirtualPair pair(rig.pairs[seer], scene);
+  const body_scan_driver::sim::VirtualPair pair(rig.pairs[seer], scene);
   std::vector<std::pair<int, int>> person;  // (v, u) of the pixels that see the person
-  auto decode = [&](const std::vector<const sim::VirtualPair*>& others) {
-    const sim::RenderedPatternSet set = pair.render(1, others);
-    StripeImage decoded;
-    StripeDecoder(pair.layout()).decode(set.frames, decoded);
+  auto decode = [&](const std::vector<const body_scan_driver::sim::VirtualPair*>& others) {
+    const body_scan_driver::sim::RenderedPatternSet set = pair.render(1, others);
+    body_scan_driver::StripeImage decoded;
+    body_scan_driver::StripeDecoder(pair.layout()).decode(set.frames, decoded);
     if (person.empty())
       for (int v = 0; v < set.truth.surface.rows; ++v)
         for (int u = 0; u < set.truth.surface.cols; ++u) {
@@ -237,7 +243,7 @@ TEST(TimingGroups, TheConflictsIntoOnePairsViewMatchTheSimulator) {
   const cv::Mat1f alone = decode({});
   for (size_t i = 0; i < rig.pairs.size(); ++i) {
     if (static_cast<int>(i) == seer) continue;
-    const auto other = sim::VirtualPair::projectorOnly(rig.pairs[i], scene);
+    const auto other = body_scan_driver::sim::VirtualPair::projectorOnly(rig.pairs[i], scene);
     const cv::Mat1f with = decode({&other});
     int pixels = 0;
     for (const auto& [v, u] : person) {

@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <mutex>
 
-using namespace body_scan;
+using namespace body_scan_driver;
 
 namespace {
 
@@ -19,13 +19,14 @@ class TriangulateNode : public testing::Test {
   void SetUp() override {
     calibration_file_ = ros::NodeHandle("~").param<std::string>("calibration_file", "");
     std::remove(calibration_file_.c_str());
-    auto scene = std::make_shared<sim::Scene>();
-    scene->add(std::make_unique<sim::Plane>(Eigen::Vector3d(1.0, 0, 0), Eigen::Vector3d(-1, 0, 0),
-                                            sim::Material{0.8, {0.8, 0.8, 0.8}}));
-    sim::VirtualPairConfig config;
-    config.world_from_camera = sim::cameraPose({0, 0, 0}, 0, 0);
-    pair_ = std::make_unique<sim::VirtualPair>(config, scene);
-    const sim::RenderedPatternSet rendered = pair_->render(1);
+    auto scene = std::make_shared<body_scan_driver::sim::Scene>();
+    scene->add(std::make_unique<body_scan_driver::sim::Plane>(
+        Eigen::Vector3d(1.0, 0, 0), Eigen::Vector3d(-1, 0, 0),
+        body_scan_driver::sim::Material{0.8, {0.8, 0.8, 0.8}}));
+    body_scan_driver::sim::VirtualPairConfig config;
+    config.world_from_camera = body_scan_driver::sim::cameraPose({0, 0, 0}, 0, 0);
+    pair_ = std::make_unique<body_scan_driver::sim::VirtualPair>(config, scene);
+    const body_scan_driver::sim::RenderedPatternSet rendered = pair_->render(1);
     std_msgs::Header header;
     header.frame_id = "test_camera_optical_frame";
     good_ = toPatternSet({rendered.frames, rendered.texture}, pair_->layout(),
@@ -68,7 +69,7 @@ class TriangulateNode : public testing::Test {
   ros::Publisher publisher_;
   ros::Subscriber subscriber_;
   std::string calibration_file_;
-  std::unique_ptr<sim::VirtualPair> pair_;
+  std::unique_ptr<body_scan_driver::sim::VirtualPair> pair_;
   body_scan_msgs::PatternSetPtr good_;
   std::mutex mutex_;
   int clouds_ = 0;
@@ -114,12 +115,12 @@ TEST_F(TriangulateNode, RejectsBadInputAndKeepsRunning) {
 // plane 1 m in front of the camera comes out at 1 m, not 1.02 m.
 TEST_F(TriangulateNode, AppliesTheResidualLinearPartOfTheWorldAlignment) {
   constexpr double kScale = 1.02;
-  PairCalibration calibration = pair_->factoryCalibration();
+  body_scan_driver::PairCalibration calibration = pair_->factoryCalibration();
   for (Eigen::Vector4d& plane : calibration.projector.planes) plane[3] *= kScale;
   Eigen::Matrix<double, 3, 4> affine;
   affine << pair_->config().world_from_camera.linear() / kScale,
       pair_->config().world_from_camera.translation();
-  calibration.alignment = WorldAlignment::fromAffine(affine);
+  calibration.alignment = body_scan_driver::WorldAlignment::fromAffine(affine);
   saveCalibration(calibration_file_ + ".aligned.yaml", calibration);
 
   ros::Publisher publisher = nh_.advertise<body_scan_msgs::PatternSet>("aligned/pattern_set", 1);

@@ -94,25 +94,27 @@ TEST(FullScanner, OneScanGivesOneWholeBodyCloudFromEveryPair) {
   if (scene_file.empty()) return;
   std::vector<float> xyzrgb(points * 4);
   std::memcpy(xyzrgb.data(), cloud->data.data(), xyzrgb.size() * sizeof(float));
-  const auto scene = body_scan::sim::loadScene(scene_file);
-  const auto accuracy = body_scan::eval::evaluateScan(xyzrgb, scene);
+  const auto scene = body_scan_driver::sim::loadScene(scene_file);
+  const auto accuracy = body_scan_merge::eval::evaluateScan(xyzrgb, scene);
   const std::string report_file = pnh.param<std::string>("accuracy_report", "");
   if (!report_file.empty())
-    body_scan::eval::writeAccuracyReport(report_file, accuracy, "full_scanner.test, " + scene_file);
-  using body_scan::eval::Region;
+    body_scan_merge::eval::writeAccuracyReport(report_file, accuracy,
+                                               "full_scanner.test, " + scene_file);
+  using body_scan_merge::eval::Region;
   std::cout << "[ figure ] accuracy: mean distance " << 1000 * accuracy.mean_distance
             << " mm (median " << 1000 * accuracy.median_distance << ", " << accuracy.outliers
             << " points > 20 mm), body covered within 5 mm " << 100 * accuracy.body.fraction()
             << " % (soles excluded)";
   for (const auto& [region, coverage] : accuracy.regions)
-    std::cout << ", " << body_scan::eval::regionName(region) << " " << 100 * coverage.fraction()
-              << " %";
+    std::cout << ", " << body_scan_merge::eval::regionName(region) << " "
+              << 100 * coverage.fraction() << " %";
   std::cout << "; report " << report_file << "\n";
   EXPECT_LE(accuracy.mean_distance, 0.002);
   EXPECT_GE(accuracy.body.fraction(), 0.95);
   for (Region region : {Region::kUnderChin, Region::kArmpitLeft, Region::kArmpitRight,
                         Region::kGroin, Region::kTorsoSideLeft, Region::kTorsoSideRight})
-    EXPECT_GE(accuracy.regions.at(region).fraction(), 0.80) << body_scan::eval::regionName(region);
+    EXPECT_GE(accuracy.regions.at(region).fraction(), 0.80)
+        << body_scan_merge::eval::regionName(region);
 }
 
 int main(int argc, char** argv) {

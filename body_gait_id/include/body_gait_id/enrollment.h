@@ -11,18 +11,19 @@
 namespace body_gait_id {
 
 constexpr int kTrainingSequences = 2;  // eta1 (sequence 0), eta2 (sequence 1)
-constexpr int kTrainingPoses = kTrainingSequences * body_gait::kGaitCycleFrames;  // 40
+constexpr int kTrainingPoses = kTrainingSequences * body_gait_model::kGaitCycleFrames;  // 40
 
 // The 40 training poses (subject_id left 0): sequence 0 = eta1, 1 = eta2, frames 1..20.
-std::vector<PoseRecord> trainingPoses(const body_gait::RepresentativePoses& s);
+std::vector<PoseRecord> trainingPoses(const body_gait_model::RepresentativePoses& s);
 
 // A walk's body measured robustly (beyond eq 5.13's mean): every pose's r and body shape
 // replaced by the component-wise median over the four fits (median of 4 = mean of the middle
 // two), so the cycle's mean of the four is that median and one bad fit of a segment cannot
 // pull it. Joint angles and p stay. Cross-walk, 50 people: rank-1 up 2-5 points (README).
-body_gait::RepresentativePoses withMedianBody(const body_gait::RepresentativePoses& s);
+body_gait_model::RepresentativePoses withMedianBody(const body_gait_model::RepresentativePoses& s);
 
 // Four models as s1..s4; throws std::invalid_argument naming the count when it is not 4.
-body_gait::RepresentativePoses representativePoses(const std::vector<body_gait::BodyModel>& s);
+body_gait_model::RepresentativePoses representativePoses(
+    const std::vector<body_gait_model::BodyModel>& s);
 
 }  // namespace body_gait_id

@@ -28,7 +28,7 @@ struct GaitFeatures {
 
 // Dimensions of a view's features.
 int dynamicSize(View view);
-constexpr int kStaticSize = body_gait::kSegmentCount;
+constexpr int kStaticSize = body_gait_model::kSegmentCount;
 
 // Body-shape measures of a fitted model (beyond the thesis's r), the fitter's BodyShape without
 // its duplicates: [0] the standing height sole to head top (mean leg + lower torso - hip rise +
@@ -39,9 +39,9 @@ constexpr int kStaticSize = body_gait::kSegmentCount;
 // than between people, the limbs' lengths only 1.5-2.5x (README, "Gait recognition
 // evaluation").
 constexpr int kShapeSize = 24;
-Eigen::VectorXd bodyShapeFeatures(const body_gait::BodyModel& model);
+Eigen::VectorXd bodyShapeFeatures(const body_gait_model::BodyModel& model);
 
-GaitFeatures gaitFeatures(const body_gait::BodyModel& model, View view = View::k3D);
+GaitFeatures gaitFeatures(const body_gait_model::BodyModel& model, View view = View::k3D);
 
 // Eqs 5.14-5.15: per-component mean and standard deviation over the gallery (population SD,
 // the thesis's 1/(MN)). A component that does not vary in the gallery (SD within 1e-6 of its

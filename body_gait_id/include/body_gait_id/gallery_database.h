@@ -51,7 +51,7 @@ struct PoseRecord {
   std::int64_t subject_id = 0;
   int sequence = 0;
   int frame = 0;
-  body_gait::BodyModel model;
+  body_gait_model::BodyModel model;
 };
 
 // The gallery file the node and the CLI use when none is given: $ROS_HOME/gait_gallery.db

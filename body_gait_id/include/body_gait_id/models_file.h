@@ -11,11 +11,11 @@
 
 namespace body_gait_id {
 
-// body_gait::loadBodyModels (a `poses:` list or BodyModel messages, one per document); throws
+// body_gait_model::loadBodyModels (a `poses:` list or BodyModel messages, one per document); throws
 // std::runtime_error naming the file, the pose and the key that is missing or has the wrong
 // length.
-std::vector<body_gait::BodyModel> readBodyModels(const std::string& path);
-void writeBodyModels(std::ostream& out, const std::vector<body_gait::BodyModel>& models);
+std::vector<body_gait_model::BodyModel> readBodyModels(const std::string& path);
+void writeBodyModels(std::ostream& out, const std::vector<body_gait_model::BodyModel>& models);
 
 // The whole gallery: subjects, scans, poses with models and 3D features, the 3D statistics.
 void exportGalleryYaml(const GalleryDatabase& db, std::ostream& out);

@@ -29,7 +29,7 @@ CrossWalkResult identifyAcrossWalks(const std::vector<WalkModels>& walks, Featur
     rounds = std::max(rounds, list.size());
   }
   FittedWalks fitted(people.size(),
-                     std::vector<std::optional<body_gait::RepresentativePoses>>(rounds));
+                     std::vector<std::optional<body_gait_model::RepresentativePoses>>(rounds));
   auto walkName = [&](size_t person, size_t trial) {
     const auto& list = walks_of[people[person]];
     return trial < list.size() ? list[trial]->walk : std::string();

@@ -13,10 +13,10 @@ namespace {
 constexpr int kCacheVersion = 1;
 
 // The spec's parts are plain doubles (no padding), so their bytes are their values.
-static_assert(sizeof(body_scan::sim::Anthropometry) % sizeof(double) == 0);
-static_assert(sizeof(body_scan::sim::BodyPose) % sizeof(double) == 0);
-static_assert(sizeof(body_scan::sim::BodyMaterials) % sizeof(double) == 0);
-static_assert(sizeof(body_scan::sim::BodySegmentFrames) % sizeof(double) == 0);
+static_assert(sizeof(body_scan_driver::sim::Anthropometry) % sizeof(double) == 0);
+static_assert(sizeof(body_scan_driver::sim::BodyPose) % sizeof(double) == 0);
+static_assert(sizeof(body_scan_driver::sim::BodyMaterials) % sizeof(double) == 0);
+static_assert(sizeof(body_scan_driver::sim::BodySegmentFrames) % sizeof(double) == 0);
 
 void fnv1a(std::uint64_t& hash, const void* data, std::size_t size) {
   const auto* bytes = static_cast<const unsigned char*>(data);
@@ -37,7 +37,7 @@ std::string serializeFit(const CachedFit& fit) {
   return out.str();
 }
 
-std::string scanKey(const body_scan::sim::HumanBodySpec& spec, const std::string& scanner) {
+std::string scanKey(const body_scan_driver::sim::HumanBodySpec& spec, const std::string& scanner) {
   std::uint64_t hash = 14695981039346656037ull;
   fnv1a(hash, &spec.body, sizeof(spec.body));
   fnv1a(hash, &spec.pose, sizeof(spec.pose));
@@ -55,7 +55,7 @@ std::string scanKey(const body_scan::sim::HumanBodySpec& spec, const std::string
 FitCache::FitCache(std::string folder) : folder_(std::move(folder)) {
   if (folder_.empty()) return;
   const std::string probe = folder_ + "/.write_test";
-  body_scan::writeFileAtomically(probe, "");  // creates the folder, or says why it cannot
+  body_scan_driver::writeFileAtomically(probe, "");  // creates the folder, or says why it cannot
   std::error_code ignored;
   std::filesystem::remove(probe, ignored);
 }
@@ -73,7 +73,7 @@ std::optional<CachedFit> FitCache::load(const std::string& key) const {
     if (!root["cache_version"] || root["cache_version"].as<int>() != kCacheVersion ||
         !root["low_quality"] || !root["points"])
       return std::nullopt;
-    const std::vector<body_gait::BodyModel> models = readBodyModels(path);
+    const std::vector<body_gait_model::BodyModel> models = readBodyModels(path);
     if (models.size() != 1) return std::nullopt;
     return CachedFit{models[0], root["low_quality"].as<bool>(), root["points"].as<int>()};
   } catch (const std::exception&) {
@@ -83,7 +83,7 @@ std::optional<CachedFit> FitCache::load(const std::string& key) const {
 
 void FitCache::store(const std::string& key, const CachedFit& fit) const {
   if (folder_.empty()) return;
-  body_scan::writeFileAtomically(pathOf(key), serializeFit(fit));
+  body_scan_driver::writeFileAtomically(pathOf(key), serializeFit(fit));
 }
 
 }  // namespace body_gait_id::eval

@@ -24,7 +24,7 @@
 namespace body_gait_id::eval {
 namespace {
 
-using body_gait::GaitSet;
+using body_gait_model::GaitSet;
 using Clock = std::chrono::steady_clock;
 
 std::string scannerSettings(const ScanOptions& options) {
@@ -36,34 +36,36 @@ std::string scannerSettings(const ScanOptions& options) {
   return text;
 }
 
-CachedFit scanAndFit(const body_scan::sim::HumanBodySpec& spec, const ScanOptions& options) {
+CachedFit scanAndFit(const body_scan_driver::sim::HumanBodySpec& spec, const ScanOptions& options) {
   if (options.scanner == ScannerKind::kTruth)
-    return {body_gait::eval::modelFromSkeleton(spec), false, 0};
-  body_gait::eval::SampledBody body;
+    return {body_gait_model::eval::modelFromSkeleton(spec), false, 0};
+  body_gait_model::eval::SampledBody body;
   if (options.scanner == ScannerKind::kFull) {
-    body = body_gait::eval::scanBodyWithFullScanner(spec);
+    body = body_gait_model::eval::scanBodyWithFullScanner(spec);
   } else {
-    body_gait::eval::ScanRig rig;
+    body_gait_model::eval::ScanRig rig;
     rig.columns = options.sampler_columns;
     rig.rows = options.sampler_columns * 13 / 16;  // the rig's default aspect (320 x 260)
     rig.noise_sigma = options.sampler_noise;
-    body = body_gait::eval::sampleBody(spec, rig);
+    body = body_gait_model::eval::sampleBody(spec, rig);
   }
-  const body_gait::BodyFit fit = body_gait::fitBody(body.points);
+  const body_gait_model::BodyFit fit = body_gait_model::fitBody(body.points);
   return {fit.model, fit.quality.low_quality, static_cast<int>(body.points.size())};
 }
 
 // The three cycles of 5.8.3 from one walk's representative poses: eta1, eta2 (training) and
 // eta3 (testing); nullopt when the walk is missing or has no forward stride.
 struct WalkCycles {
-  body_gait::GaitCycle eta1, eta2, eta3;
+  body_gait_model::GaitCycle eta1, eta2, eta3;
 };
-std::optional<WalkCycles> cyclesOf(const std::optional<body_gait::RepresentativePoses>& walk) {
+std::optional<WalkCycles> cyclesOf(
+    const std::optional<body_gait_model::RepresentativePoses>& walk) {
   if (!walk) return std::nullopt;
   try {
-    return WalkCycles{body_gait::reconstructGaitCycle(body_gait::gaitSet(*walk, GaitSet::kEta1)),
-                      body_gait::reconstructGaitCycle(body_gait::gaitSet(*walk, GaitSet::kEta2)),
-                      body_gait::reconstructGaitCycle(body_gait::gaitSet(*walk, GaitSet::kEta3))};
+    return WalkCycles{
+        body_gait_model::reconstructGaitCycle(body_gait_model::gaitSet(*walk, GaitSet::kEta1)),
+        body_gait_model::reconstructGaitCycle(body_gait_model::gaitSet(*walk, GaitSet::kEta2)),
+        body_gait_model::reconstructGaitCycle(body_gait_model::gaitSet(*walk, GaitSet::kEta3))};
   } catch (const std::invalid_argument&) {
     return std::nullopt;  // e.g. a backwards fit: no forward stride
   }
@@ -210,8 +212,8 @@ FittedWalks fitWalks(const PersonSource& people, int trials, const ScanOptions& 
       // Heading within +-46 deg of the rig's front, varied per case as the scanner sees people;
       // from (person, trial, pose) alone, so runs with other counts share the cache.
       const int heading_case = 4 * job.person + (job.pose - 1) + 2 * job.trial;
-      const body_scan::sim::HumanBodySpec spec = people.spec(
-          job.person, job.pose, job.trial, body_gait::eval::fullScannerHeading(heading_case));
+      const body_scan_driver::sim::HumanBodySpec spec = people.spec(
+          job.person, job.pose, job.trial, body_gait_model::eval::fullScannerHeading(heading_case));
       const std::string key = scanKey(spec, scanner);
       const auto job_start = Clock::now();
       if ((fits[j] = cache.load(key))) {
@@ -220,7 +222,7 @@ FittedWalks fitWalks(const PersonSource& people, int trials, const ScanOptions& 
         try {
           fits[j] = scanAndFit(spec, options);
           cache.store(key, *fits[j]);
-        } catch (const body_scan::FileWriteError& e) {
+        } catch (const body_scan_driver::FileWriteError& e) {
           std::lock_guard<std::mutex> lock(output);
           write_error = e.what();
         } catch (const std::exception& e) {
@@ -250,7 +252,7 @@ FittedWalks fitWalks(const PersonSource& people, int trials, const ScanOptions& 
   if (!write_error.empty()) throw std::runtime_error(write_error);
 
   FittedWalks walks(people.names.size(),
-                    std::vector<std::optional<body_gait::RepresentativePoses>>(trials));
+                    std::vector<std::optional<body_gait_model::RepresentativePoses>>(trials));
   std::vector<std::vector<int>> missing(people.names.size(), std::vector<int>(trials, 0));
   FitSummary local;
   for (std::size_t j = 0; j < jobs.size(); ++j) {
@@ -313,7 +315,7 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row,
     in_gallery[person] = 1;
     int sequence = 0;
     for (const WalkCycles& cycles : enrolment)
-      for (const body_gait::GaitCycle* cycle : {&cycles.eta1, &cycles.eta2}) {
+      for (const body_gait_model::GaitCycle* cycle : {&cycles.eta1, &cycles.eta2}) {
         for (int f = 0; f < static_cast<int>(cycle->frames.size()); ++f)
           gallery.push_back(
               {subjectId(person), sequence, f + 1, gaitFeatures(cycle->frames[f], row.view)});
@@ -350,16 +352,17 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row,
       continue;
     }
     // (model, true frame) of every probe of this person.
-    std::vector<std::pair<const body_gait::BodyModel*, int>> probe_models;
+    std::vector<std::pair<const body_gait_model::BodyModel*, int>> probe_models;
     if (frames == ProbeFrames::kSingleScans) {
-      const body_gait::RepresentativePoses& scans = *walks[person].at(probe_trial);
+      const body_gait_model::RepresentativePoses& scans = *walks[person].at(probe_trial);
       for (int k = 0; k < 4; ++k)
-        probe_models.push_back({&scans[k], body_gait::kRepresentativeFrames[k]});
+        probe_models.push_back({&scans[k], body_gait_model::kRepresentativeFrames[k]});
     } else {
       for (int f = 0; f < static_cast<int>(cycles->eta3.frames.size()); ++f) {
-        const bool representative = std::find(body_gait::kRepresentativeFrames.begin(),
-                                              body_gait::kRepresentativeFrames.end(),
-                                              f + 1) != body_gait::kRepresentativeFrames.end();
+        const bool representative =
+            std::find(body_gait_model::kRepresentativeFrames.begin(),
+                      body_gait_model::kRepresentativeFrames.end(),
+                      f + 1) != body_gait_model::kRepresentativeFrames.end();
         if (representative && frames == ProbeFrames::kInterpolated) continue;
         probe_models.push_back({&cycles->eta3.frames[f], f + 1});
       }
@@ -441,7 +444,7 @@ std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
 
 PersonSource bvhPeople(const std::vector<std::string>& items, const std::string& joint_map,
                        int trials, std::vector<std::string>* picked) {
-  namespace sim = body_scan::sim;
+  namespace sim = body_scan_driver::sim;
   struct Walk {
     std::shared_ptr<const sim::BvhSubject> subject;
     sim::GaitPoseFrames poses;
@@ -488,8 +491,8 @@ namespace {
 
 // Candidate static measures of one fitted pose: the lengths r, chain sums (whose shared joints'
 // errors cancel), the radii and the joint offsets.
-std::vector<std::pair<std::string, double>> candidateMeasures(const body_gait::BodyModel& m) {
-  using namespace body_gait;
+std::vector<std::pair<std::string, double>> candidateMeasures(const body_gait_model::BodyModel& m) {
+  using namespace body_gait_model;
   std::vector<std::pair<std::string, double>> v;
   for (int s = 0; s < kSegmentCount; ++s)
     v.push_back({std::string("r ") + segmentInfo(s).name, m.r[s]});
@@ -533,9 +536,9 @@ std::vector<MeasureNoise> bodyMeasureNoise(const FittedWalks& walks, int trial_a
   std::vector<Eigen::VectorXd> a, b;  // per person: walk values
   for (const auto& person : walks) {
     if (!person.at(trial_a) || !person.at(trial_b)) continue;
-    auto walkValue = [&result](const body_gait::RepresentativePoses& poses) {
+    auto walkValue = [&result](const body_gait_model::RepresentativePoses& poses) {
       Eigen::VectorXd sum;
-      for (const body_gait::BodyModel& m : poses) {
+      for (const body_gait_model::BodyModel& m : poses) {
         const auto measures = candidateMeasures(m);
         if (result.empty())
           for (const auto& [name, value] : measures) result.push_back({name});
@@ -575,13 +578,14 @@ FeatureNoise crossWalkNoise(const FittedWalks& walks, View view, int trial_a, in
     if (!a || !b) continue;
     ++people;
     // Pairs (walk a's model, walk b's model) of the same gait-cycle frame.
-    std::vector<std::pair<const body_gait::BodyModel*, const body_gait::BodyModel*>> pairs;
+    std::vector<std::pair<const body_gait_model::BodyModel*, const body_gait_model::BodyModel*>>
+        pairs;
     for (std::size_t f = 0; f < a->eta3.frames.size(); ++f)
       if (!single_scans_b) pairs.push_back({&a->eta3.frames[f], &b->eta3.frames[f]});
     if (single_scans_b)
       for (int k = 0; k < 4; ++k)
-        pairs.push_back(
-            {&a->eta3.frames[body_gait::kRepresentativeFrames[k] - 1], &(*person.at(trial_b))[k]});
+        pairs.push_back({&a->eta3.frames[body_gait_model::kRepresentativeFrames[k] - 1],
+                         &(*person.at(trial_b))[k]});
     for (const auto& [model_a, model_b] : pairs) {
       const GaitFeatures fa = gaitFeatures(*model_a, view);
       const GaitFeatures fb = gaitFeatures(*model_b, view);

@@ -101,7 +101,7 @@ std::string recognitionReportYaml(const RecognitionReport& report) {
 }
 
 void writeRecognitionReport(const std::string& path, const RecognitionReport& report) {
-  body_scan::writeFileAtomically(path, recognitionReportYaml(report));
+  body_scan_driver::writeFileAtomically(path, recognitionReportYaml(report));
 }
 
 std::string recognitionTable(const std::vector<NamedMetrics>& results) {
@@ -266,9 +266,9 @@ std::vector<PlotPanel> cmcAndRocPanels(const std::vector<NamedMetrics>& results)
 void writePng(const std::string& path, const cv::Mat& image) {
   std::vector<uchar> png;
   if (image.empty() || !cv::imencode(".png", image, png))
-    throw body_scan::FileWriteError("cannot encode " + path +
-                                    " as PNG: it must be a non-empty 8-bit image");
-  body_scan::writeFileAtomically(path, std::string(png.begin(), png.end()));
+    throw body_scan_driver::FileWriteError("cannot encode " + path +
+                                           " as PNG: it must be a non-empty 8-bit image");
+  body_scan_driver::writeFileAtomically(path, std::string(png.begin(), png.end()));
 }
 
 }  // namespace body_gait_id::eval

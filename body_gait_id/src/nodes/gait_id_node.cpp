@@ -103,16 +103,16 @@ class GaitIdNode {
       names_.clear();
       for (const Subject& s : database().subjects()) names_[s.id] = s.info.name;
     }
-    const Match match = matcher_->identify(gaitFeatures(body_gait::fromMsg(model), view_));
+    const Match match = matcher_->identify(gaitFeatures(body_gait_model::fromMsg(model), view_));
     return {match, names_[match.subject_id]};
   }
 
   bool onEnroll(body_scan_msgs::EnrollSubject::Request& req,
                 body_scan_msgs::EnrollSubject::Response& res) {
     try {
-      std::vector<body_gait::BodyModel> models;
-      for (const auto& pose : req.poses) models.push_back(body_gait::fromMsg(pose));
-      const body_gait::RepresentativePoses s = representativePoses(models);
+      std::vector<body_gait_model::BodyModel> models;
+      for (const auto& pose : req.poses) models.push_back(body_gait_model::fromMsg(pose));
+      const body_gait_model::RepresentativePoses s = representativePoses(models);
       const std::vector<PoseRecord> poses = trainingPoses(median_body_ ? withMedianBody(s) : s);
       res.subject_id = database().enroll({req.name, req.gender, req.age}, req.scan_paths, poses);
       res.pose_count = static_cast<int>(poses.size());

@@ -43,7 +43,7 @@ int integer(const char* text, const std::string& flag) {
 }
 
 // The scene of make demo's walking subject with this person's body instead (same floor).
-std::string sceneFile(const body_scan::sim::HumanBodySpec& person) {
+std::string sceneFile(const body_scan_driver::sim::HumanBodySpec& person) {
   YAML::Node floor;
   floor["type"] = "plane";
   floor["point"] = std::vector<double>{0, 0, 0};
@@ -52,7 +52,7 @@ std::string sceneFile(const body_scan::sim::HumanBodySpec& person) {
   floor["half_extent"] = 2.0;
   YAML::Node scene;
   scene["objects"].push_back(floor);
-  scene["objects"].push_back(body_scan::sim::humanBodyToYaml(person));
+  scene["objects"].push_back(body_scan_driver::sim::humanBodyToYaml(person));
   return "# Written by enroll_simulated_people: " + person.name +
          " (a simulated person) on the floor of the scan volume.\n" + YAML::Dump(scene) + "\n";
 }
@@ -117,21 +117,21 @@ int main(int argc, char** argv) {
   if (scene_pose < 1 || scene_pose > 4) usage("--scene-pose must be 1..4 (thesis 5.3)");
   if (scan.threads < 1 || scan.threads > 16) usage("--threads must be 1..16");
 
-  const std::vector<body_gait::eval::SimulatedPerson> persons =
-      body_gait::eval::simulatedPeople(people_count, seed);
+  const std::vector<body_gait_model::eval::SimulatedPerson> persons =
+      body_gait_model::eval::simulatedPeople(people_count, seed);
   try {
     if (!scene_path.empty()) {
       // Facing the rig's front (heading 0), as the demo's walking subject does.
-      body_scan::writeFileAtomically(
-          scene_path, sceneFile(body_gait::eval::walkingSubject(persons[scene_person], scene_pose,
-                                                                scene_trial, 0.0)));
+      body_scan_driver::writeFileAtomically(
+          scene_path, sceneFile(body_gait_model::eval::walkingSubject(
+                          persons[scene_person], scene_pose, scene_trial, 0.0)));
       std::printf("scene: %s walk %d pose %d -> %s\n", persons[scene_person].name.c_str(),
                   scene_trial, scene_pose, scene_path.c_str());
     }
     eval::PersonSource source;
     for (const auto& person : persons) source.names.push_back(person.name);
     source.spec = [&persons, trial](int person, int pose, int, double heading) {
-      return body_gait::eval::walkingSubject(persons[person], pose, trial, heading);
+      return body_gait_model::eval::walkingSubject(persons[person], pose, trial, heading);
     };
     eval::FitSummary summary;
     const eval::FittedWalks walks = eval::fitWalks(source, 1, scan, &summary);
@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
         continue;
       }
       const SubjectInfo info{persons[i].name, persons[i].gender, persons[i].age};
-      const body_gait::RepresentativePoses& walk = *walks[i][0];
+      const body_gait_model::RepresentativePoses& walk = *walks[i][0];
       const std::int64_t id =
           gallery.enroll(info, {}, trainingPoses(median_body ? withMedianBody(walk) : walk));
       std::printf("enrolled %s (%s, %d) as subject %lld: walk %d, %d training poses\n",

@@ -232,12 +232,12 @@ int main(int argc, char** argv) {
   if (!noise_path.empty() && noise_seed == 0)
     usage("--write-noise needs --noise-seed (the people the noise is learned on)");
 
-  std::vector<body_gait::eval::SimulatedPerson> persons;
+  std::vector<body_gait_model::eval::SimulatedPerson> persons;
   if (bvh_files.empty()) {
-    persons = body_gait::eval::simulatedPeople(subjects, seed);
+    persons = body_gait_model::eval::simulatedPeople(subjects, seed);
     for (const auto& person : persons) people.names.push_back(person.name);
     people.spec = [&persons](int person, int pose, int trial, double heading) {
-      return body_gait::eval::walkingSubject(persons[person], pose, trial, heading);
+      return body_gait_model::eval::walkingSubject(persons[person], pose, trial, heading);
     };
   }
 
@@ -259,9 +259,9 @@ int main(int argc, char** argv) {
         std::string reason = "a pose was not fitted";
         if (const auto& poses = walks[person][trial]) {
           try {
-            for (const auto set :
-                 {body_gait::GaitSet::kEta1, body_gait::GaitSet::kEta2, body_gait::GaitSet::kEta3})
-              body_gait::reconstructGaitCycle(body_gait::gaitSet(*poses, set));
+            for (const auto set : {body_gait_model::GaitSet::kEta1, body_gait_model::GaitSet::kEta2,
+                                   body_gait_model::GaitSet::kEta3})
+              body_gait_model::reconstructGaitCycle(body_gait_model::gaitSet(*poses, set));
             continue;
           } catch (const std::invalid_argument& e) {
             reason = e.what();
@@ -281,12 +281,12 @@ int main(int argc, char** argv) {
       // Development people (another seed: nobody of the test set) with two walks each.
       // Persons 0 .. noise_first - 1 are fitted too (their scans keep their index, so the
       // cache serves them) and then left out.
-      const std::vector<body_gait::eval::SimulatedPerson> development =
-          body_gait::eval::simulatedPeople(noise_first + noise_subjects, noise_seed);
+      const std::vector<body_gait_model::eval::SimulatedPerson> development =
+          body_gait_model::eval::simulatedPeople(noise_first + noise_subjects, noise_seed);
       PersonSource dev;
       for (const auto& person : development) dev.names.push_back(person.name);
       dev.spec = [&development](int person, int pose, int trial, double heading) {
-        return body_gait::eval::walkingSubject(development[person], pose, trial, heading);
+        return body_gait_model::eval::walkingSubject(development[person], pose, trial, heading);
       };
       FittedWalks dev_walks = fitWalks(dev, 2, scan);
       dev_walks.erase(dev_walks.begin(), dev_walks.begin() + noise_first);
@@ -304,8 +304,8 @@ int main(int argc, char** argv) {
                                    std::to_string(noise_seed) + ", " +
                                    (median_body ? "median" : "mean") + " body of a walk" +
                                    (single_scans ? ", single-scan probes" : "");
-        body_scan::writeFileAtomically(noise_path,
-                                       body_gait_id::featureNoiseYaml(weighted.noise, source));
+        body_scan_driver::writeFileAtomically(
+            noise_path, body_gait_id::featureNoiseYaml(weighted.noise, source));
       }
     }
     if (measure_noise && cross_walk) {

@@ -101,7 +101,7 @@ int run(const Arguments& args) {
     std::vector<std::string> scans;
     for (auto [it, end] = args.options.equal_range("scan"); it != end; ++it)
       scans.push_back(it->second);
-    const body_gait::RepresentativePoses s =
+    const body_gait_model::RepresentativePoses s =
         representativePoses(readBodyModels(args.required("models")));
     const std::string walk_body = args.one("walk-body", "mean");
     if (walk_body != "mean" && walk_body != "median")
@@ -151,7 +151,7 @@ int run(const Arguments& args) {
                                        view, noise ? &*noise : nullptr);
     std::map<std::int64_t, std::string> names;
     for (const Subject& s : db.subjects()) names[s.id] = s.info.name;
-    const std::vector<body_gait::BodyModel> models = readBodyModels(args.required("models"));
+    const std::vector<body_gait_model::BodyModel> models = readBodyModels(args.required("models"));
     for (std::size_t i = 0; i < models.size(); ++i) {
       const Match m = matcher.identify(gaitFeatures(models[i], view));
       std::printf("pose %zu: subject %ld '%s', sequence %d, frame %d, score %.4f\n", i + 1,

@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
                << ", voted: '" << walk.voted_person << "'}\n";
         }
       }
-    if (!out.empty()) body_scan::writeFileAtomically(out, yaml.str());
+    if (!out.empty()) body_scan_driver::writeFileAtomically(out, yaml.str());
   } catch (const std::exception& error) {
     std::fprintf(stderr, "identify_walks: %s\n", error.what());
     return 1;

@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-namespace body_gait {
+namespace body_gait_model {
 
 using Cloud = std::vector<Eigen::Vector3d>;
 
@@ -58,4 +58,4 @@ struct BodyAxes {
 // Throws std::invalid_argument naming the problem if the cloud cannot be a standing body.
 BodyAxes estimateBodyAxes(const Cloud& cloud, const BodyAxesOptions& options = {});
 
-}  // namespace body_gait
+}  // namespace body_gait_model

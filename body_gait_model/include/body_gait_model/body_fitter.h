@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace body_gait {
+namespace body_gait_model {
 
 struct FitQualityOptions {
   // Circular cylinders miss an elliptical torso by up to ~3 cm, so good fits of simulated
@@ -93,4 +93,4 @@ BodyFit fitBody(const Cloud& cloud, const FitOptions& options = {});
 FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,
                        const FitQualityOptions& options = {});
 
-}  // namespace body_gait
+}  // namespace body_gait_model

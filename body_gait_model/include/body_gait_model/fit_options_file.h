@@ -7,10 +7,10 @@
 
 #include <string>
 
-namespace body_gait {
+namespace body_gait_model {
 
 // Throws std::runtime_error naming the file, the key and the fix on an unreadable file, an
 // unknown key (a typo would otherwise be ignored silently) or a value of the wrong type.
 FitOptions loadFitOptions(const std::string& path);
 
-}  // namespace body_gait
+}  // namespace body_gait_model

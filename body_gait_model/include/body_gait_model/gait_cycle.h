@@ -9,7 +9,7 @@
 #include <array>
 #include <vector>
 
-namespace body_gait {
+namespace body_gait_model {
 
 constexpr int kGaitCycleFrames = 20;  // 5.8.2: one cycle, frames Y = 1..20
 // Frames of the representative poses s1..s4 (5.8.2); the others are interpolated.
@@ -53,4 +53,4 @@ struct GaitCycle {
 // Throws std::invalid_argument if the legs give no forward stride (e.g. a backwards fit).
 GaitCycle reconstructGaitCycle(const RepresentativePoses& poses);
 
-}  // namespace body_gait
+}  // namespace body_gait_model

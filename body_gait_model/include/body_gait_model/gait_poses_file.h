@@ -24,7 +24,7 @@ namespace YAML {
 class Node;
 }
 
-namespace body_gait {
+namespace body_gait_model {
 
 // One model as a map with every key above (the shape included), lists in flow style.
 YAML::Node bodyModelToYaml(const BodyModel& model);
@@ -41,4 +41,4 @@ RepresentativePoses loadRepresentativePoses(const std::string& path);
 // Writes every key (the shape included); throws std::runtime_error if the file cannot be written.
 void saveRepresentativePoses(const std::string& path, const RepresentativePoses& poses);
 
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -14,7 +14,7 @@
 #include <array>
 #include <string>
 
-namespace body_gait {
+namespace body_gait_model {
 
 // Segment index = thesis part ID - 1 (Table 5.2).
 enum Segment : int {
@@ -157,4 +157,4 @@ SegmentSurfaces segmentSurfaces(const PosedModel& posed);
 NearestSegment nearestSegment(const SegmentSurfaces& surfaces, const Eigen::Vector3d& point);
 NearestSegment nearestSegment(const PosedModel& posed, const Eigen::Vector3d& point);
 
-}  // namespace body_gait
+}  // namespace body_gait_model

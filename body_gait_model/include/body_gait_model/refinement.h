@@ -6,7 +6,7 @@
 #include <body_gait_model/body_axes.h>
 #include <body_gait_model/kinematic_model.h>
 
-namespace body_gait {
+namespace body_gait_model {
 
 struct RefinementOptions {
   int sample_points = 2500;   // points drawn evenly from the cloud
@@ -31,4 +31,4 @@ struct RefinementReport {
 RefinementReport refineModel(BodyModel& model, const Cloud& cloud,
                              const RefinementOptions& options = {});
 
-}  // namespace body_gait
+}  // namespace body_gait_model

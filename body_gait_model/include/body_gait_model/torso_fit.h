@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-namespace body_gait {
+namespace body_gait_model {
 
 struct TorsoOptions {
   int sectors = 36;               // R: regions radiating from the axis point w_h
@@ -49,4 +49,4 @@ struct TorsoFit {
 TorsoFit fitTorso(const std::vector<Eigen::Vector3d>& model_points, const BodyAxes& axes,
                   const TorsoOptions& options = {});
 
-}  // namespace body_gait
+}  // namespace body_gait_model

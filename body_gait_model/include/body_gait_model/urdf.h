@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace body_gait {
+namespace body_gait_model {
 
 // Names of the URDF's revolute joints in the order of q (eq 5.2): "<segment>_x", "<segment>_z"
 // for every segment but the fixed neck. A joint_states message with these names and q as
@@ -21,4 +21,4 @@ std::vector<std::string> urdfJointNames();
 std::string modelUrdf(const BodyModel& model, const std::string& robot_name = "body",
                       const std::string& link_prefix = "");
 
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -6,9 +6,9 @@
 #include <random>
 #include <stdexcept>
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 
-namespace sim = body_scan::sim;
+namespace sim = body_scan_driver::sim;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -128,9 +128,9 @@ Eigen::Vector3d trueJoint(const SampledBody& body, const std::string& name) {
   throw std::invalid_argument("true skeleton has no joint '" + name + "'");
 }
 
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 
 FitErrors compareWithTruth(const BodyModel& model, const SampledBody& body) {
   const PosedModel posed = forwardKinematics(model);
@@ -198,4 +198,4 @@ FitErrors compareWithTruth(const BodyModel& model, const SampledBody& body) {
   return errors;
 }
 
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval

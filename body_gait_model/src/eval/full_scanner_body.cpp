@@ -10,15 +10,15 @@
 #include <mutex>
 #include <stdexcept>
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 
-namespace sim = body_scan::sim;
+namespace sim = body_scan_driver::sim;
 
 namespace {
 
 struct PlannedRig {
   sim::Rig rig;
-  body_scan::TimingGroupList groups;
+  body_scan_merge::TimingGroupList groups;
 };
 
 // Loading a rig and planning its timing groups takes a while: once per rig file.
@@ -30,7 +30,7 @@ const PlannedRig& plannedRig(const std::string& path) {
   if (!planned) {
     auto loaded = std::make_unique<PlannedRig>();
     loaded->rig = sim::loadRig(path);
-    loaded->groups = body_scan::plannedTimingGroups(loaded->rig);
+    loaded->groups = body_scan_merge::plannedTimingGroups(loaded->rig);
     planned = std::move(loaded);
   }
   return *planned;
@@ -46,7 +46,7 @@ SampledBody scanBodyWithFullScanner(const sim::HumanBodySpec& spec,
       plannedRig(options.rig_file.empty() ? BODY_SCAN_DRIVER_CONFIG_DIR "/rigs/thesis_rig.yaml"
                                           : options.rig_file);
   sim::Rig rig = planned.rig;
-  body_scan::TimingGroupList groups = planned.groups;
+  body_scan_merge::TimingGroupList groups = planned.groups;
   for (const std::string& missing : options.missing_pairs) {
     rig.pair(missing);  // throws naming the id and the rig's ids
     rig.pairs.erase(std::remove_if(rig.pairs.begin(), rig.pairs.end(),
@@ -70,7 +70,7 @@ SampledBody scanBodyWithFullScanner(const sim::HumanBodySpec& spec,
   SampledBody body;
   body.spec = spec;
   body.skeleton = scene->skeleton();
-  const body_scan::SimulatedScan scan = body_scan::simulateScan(rig, scene, groups);
+  const body_scan_merge::SimulatedScan scan = body_scan_merge::simulateScan(rig, scene, groups);
   const std::vector<float>& xyzrgb = scan.cloud.xyzrgb;
   body.points.reserve(xyzrgb.size() / 4);
   for (size_t i = 0; i < xyzrgb.size(); i += 4)
@@ -78,4 +78,4 @@ SampledBody scanBodyWithFullScanner(const sim::HumanBodySpec& spec,
   return body;
 }
 
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval

@@ -7,9 +7,9 @@
 #include <random>
 #include <stdexcept>
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 
-namespace sim = body_scan::sim;
+namespace sim = body_scan_driver::sim;
 
 namespace {
 
@@ -199,4 +199,4 @@ sim::HumanBodySpec walkingSubject(const SimulatedPerson& person, int index, int 
   return spec;
 }
 
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval

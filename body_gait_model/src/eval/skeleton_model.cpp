@@ -5,9 +5,9 @@
 #include <stdexcept>
 #include <string>
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 
-namespace sim = body_scan::sim;
+namespace sim = body_scan_driver::sim;
 
 namespace {
 
@@ -128,4 +128,4 @@ BodyModel modelFromSkeleton(const SampledBody& body) {
   return modelFromSkeleton(body.skeleton, body.spec.body);
 }
 
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval

@@ -1,8 +1,8 @@
 // BodyFitter: /body_scan/cloud (PointCloud2, world) -> /body_gait/model (BodyModel),
 // /body_gait/markers (MarkerArray), /body_gait/joint_states, TF of the model's links and the
-// URDF on robot_description (thesis 5.5). The fit is body_gait::fitBody; this is the ROS wrapper.
-// robot_state_publisher is not installed here, so the nodelet publishes the links' TF itself
-// (modelTransforms: the same frames robot_state_publisher would derive from joint_states).
+// URDF on robot_description (thesis 5.5). The fit is body_gait_model::fitBody; this is the ROS
+// wrapper. robot_state_publisher is not installed here, so the nodelet publishes the links' TF
+// itself (modelTransforms: the same frames robot_state_publisher would derive from joint_states).
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/fit_options_file.h>
 #include <body_gait_model/ros/body_model_msg.h>
@@ -15,7 +15,7 @@
 #include <memory>
 #include <pluginlib/class_list_macros.hpp>
 
-namespace body_gait {
+namespace body_gait_model {
 
 class BodyFitterNodelet : public nodelet::Nodelet {
  private:
@@ -86,6 +86,6 @@ class BodyFitterNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;
 };
 
-}  // namespace body_gait
+}  // namespace body_gait_model
 
-PLUGINLIB_EXPORT_CLASS(body_gait::BodyFitterNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(body_gait_model::BodyFitterNodelet, nodelet::Nodelet)

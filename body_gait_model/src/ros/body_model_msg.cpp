@@ -6,7 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 
-namespace body_gait {
+namespace body_gait_model {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -86,7 +86,7 @@ Cloud cloudFromMsg(const sensor_msgs::PointCloud2& msg) {
 sensor_msgs::PointCloud2 cloudToMsg(const Cloud& cloud, const std_msgs::Header& header) {
   sensor_msgs::PointCloud2 msg;
   msg.header = header;
-  body_scan::layoutFloatCloud(msg, static_cast<uint32_t>(cloud.size()), 1, /*rgb=*/false);
+  body_scan_driver::layoutFloatCloud(msg, static_cast<uint32_t>(cloud.size()), 1, /*rgb=*/false);
   msg.is_dense = true;
   float* out = reinterpret_cast<float*>(msg.data.data());
   for (const auto& p : cloud)
@@ -255,4 +255,4 @@ sensor_msgs::JointState jointStates(const BodyModel& model, const std_msgs::Head
   return state;
 }
 
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-namespace body_gait {
+namespace body_gait_model {
 
 body_scan_msgs::GaitSequence toMsg(const GaitCycle& cycle, const std_msgs::Header& header,
                                    const std::string& subject) {
@@ -70,4 +70,4 @@ visualization_msgs::MarkerArray gaitSequenceMarkers(const GaitCycle& cycle,
   return markers;
 }
 
-}  // namespace body_gait
+}  // namespace body_gait_model

@@ -83,7 +83,7 @@ double number(const char* text, const std::string& flag) {
 
 // One scan to fit: a body, its gait pose (1..4) and, for motion capture, where it came from.
 struct Case {
-  body_scan::sim::HumanBodySpec spec;
+  body_scan_driver::sim::HumanBodySpec spec;
   int pose = 0;
   int frame = -1;  // 0-based BVH frame; -1 = a simulated pose
   std::string person, walk;
@@ -91,7 +91,7 @@ struct Case {
 
 // The 4 poses of every walk, posed on the BVH frames the picker chose (prints them).
 std::vector<Case> bvhCases(const std::vector<std::string>& items, const std::string& map_path) {
-  namespace sim = body_scan::sim;
+  namespace sim = body_scan_driver::sim;
   const sim::BvhJointMap map = sim::loadBvhJointMap(map_path);
   std::vector<Case> cases;
   for (const std::string& item : items) {
@@ -116,8 +116,9 @@ std::vector<Case> bvhCases(const std::vector<std::string>& items, const std::str
 
 // One panel of --picture: the cloud seen from the subject's left (x forward = right, z up),
 // shaded by depth, with the fitted (red) and true (green) joints and the limb segments.
-cv::Mat sidePanel(const std::vector<Eigen::Vector3d>& points, const body_gait::PosedModel& fitted,
-                  const std::vector<body_scan::sim::SkeletonJoint>& truth,
+cv::Mat sidePanel(const std::vector<Eigen::Vector3d>& points,
+                  const body_gait_model::PosedModel& fitted,
+                  const std::vector<body_scan_driver::sim::SkeletonJoint>& truth,
                   const std::string& title) {
   constexpr int kWidth = 420, kHeight = 760;
   constexpr double kPixelsPerMetre = 360, kMinX = -0.55, kTopZ = 2.0;
@@ -170,14 +171,14 @@ int main(int argc, char** argv) {
   double abduction_deg = -1;
   double lean_deg = -100;  // > -90: every simulated body's forward torso lean (deg)
   bool test_headings = false, per_joint = false, full_scanner = false;
-  body_gait::eval::FullScannerOptions scanner;
+  body_gait_model::eval::FullScannerOptions scanner;
   std::string only, clouds, models_out, picture;
   std::vector<cv::Mat> panels;
   std::string bvh_map = BODY_SCAN_DRIVER_CONFIG_DIR "/bvh/cmu_joint_map.yaml";
   std::vector<std::string> bvh_files;
   double dark_albedo = -1;
-  body_gait::FitOptions options;
-  body_gait::eval::ScanRig rig;
+  body_gait_model::FitOptions options;
+  body_gait_model::eval::ScanRig rig;
   rig.noise_sigma = 0.002;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
@@ -240,17 +241,17 @@ int main(int argc, char** argv) {
   }
   if (subjects < 1 || rig.columns < 20) usage("--subjects must be >= 1 and --columns >= 20");
   // Simulated bodies: simulatedSubjects (the fit figures' subjects) or simulatedPeople.
-  std::vector<body_scan::sim::HumanBodySpec> bodies;
-  std::vector<body_gait::eval::SimulatedPerson> persons;
+  std::vector<body_scan_driver::sim::HumanBodySpec> bodies;
+  std::vector<body_gait_model::eval::SimulatedPerson> persons;
   if (people > 0) {
-    persons = body_gait::eval::simulatedPeople(people);
+    persons = body_gait_model::eval::simulatedPeople(people);
     for (const auto& person : persons) {
       bodies.emplace_back();
       bodies.back().name = person.name;
     }
     subjects = people;
   } else {
-    bodies = body_gait::eval::simulatedSubjects(subjects);
+    bodies = body_gait_model::eval::simulatedSubjects(subjects);
   }
   if (!only.empty() && bvh_files.empty()) {
     bool known = false;
@@ -277,13 +278,13 @@ int main(int argc, char** argv) {
       for (int pose = 1; pose <= 4; ++pose, ++index) {
         Case c;
         c.pose = pose;
-        const double heading = full_scanner ? body_gait::eval::fullScannerHeading(index)
+        const double heading = full_scanner ? body_gait_model::eval::fullScannerHeading(index)
                                             : 0.3 + 1.7 * (test_headings ? pose : pose + index);
         if (people > 0) {
-          c.spec = body_gait::eval::walkingSubject(persons[k], pose, 0, heading);
+          c.spec = body_gait_model::eval::walkingSubject(persons[k], pose, 0, heading);
         } else {
           c.spec = bodies[k];
-          c.spec.pose = body_gait::eval::gaitPose(pose, heading);
+          c.spec.pose = body_gait_model::eval::gaitPose(pose, heading);
         }
         if (abduction_deg >= 0)
           c.spec.pose.left_shoulder_abduction = c.spec.pose.right_shoulder_abduction =
@@ -310,10 +311,10 @@ int main(int argc, char** argv) {
     auto spec = each.spec;
     const int pose = each.pose;
     if (dark_albedo >= 0) spec.materials.hair.albedo = spec.materials.clothing.albedo = dark_albedo;
-    body_gait::eval::SampledBody body;
+    body_gait_model::eval::SampledBody body;
     try {
-      body = full_scanner ? body_gait::eval::scanBodyWithFullScanner(spec, scanner)
-                          : body_gait::eval::sampleBody(spec, rig);
+      body = full_scanner ? body_gait_model::eval::scanBodyWithFullScanner(spec, scanner)
+                          : body_gait_model::eval::sampleBody(spec, rig);
     } catch (const std::exception& error) {
       std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
       return 1;
@@ -324,23 +325,23 @@ int main(int argc, char** argv) {
         xyz.insert(xyz.end(), {float(p.x()), float(p.y()), float(p.z())});
       const std::string path = clouds + "/" + spec.name + "_pose" + std::to_string(pose) + ".ply";
       try {
-        body_scan::writePly(path, xyz.data(), body.points.size(), 3, -1);
+        body_scan_merge::writePly(path, xyz.data(), body.points.size(), 3, -1);
       } catch (const std::exception& error) {
         std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
         return 1;
       }
     }
     const auto start = std::chrono::steady_clock::now();
-    const body_gait::BodyFit fit = body_gait::fitBody(body.points, options);
+    const body_gait_model::BodyFit fit = body_gait_model::fitBody(body.points, options);
     const double fit_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const auto errors = body_gait::eval::compareWithTruth(fit.model, body);
+    const auto errors = body_gait_model::eval::compareWithTruth(fit.model, body);
     if (!picture.empty()) {
       std::ostringstream title;
       title << spec.name << " pose " << pose;
       if (each.frame >= 0) title << " (frame " << each.frame + 1 << ")";
       title << ": " << std::lround(1000 * errors.mean_joint_error) << " mm";
-      panels.push_back(sidePanel(body.points, body_gait::forwardKinematics(fit.model),
+      panels.push_back(sidePanel(body.points, body_gait_model::forwardKinematics(fit.model),
                                  body.skeleton, title.str()));
     }
     const bool heading_right = errors.front_right && errors.left_right;
@@ -369,7 +370,7 @@ int main(int argc, char** argv) {
         file["person"] = each.person;
         file["walk"] = each.walk;
       }
-      YAML::Node pose_node = body_gait::bodyModelToYaml(fit.model);
+      YAML::Node pose_node = body_gait_model::bodyModelToYaml(fit.model);
       pose_node["frame"] = each.frame + 1;
       pose_node["low_quality"] = fit.quality.low_quality;
       file["poses"].push_back(pose_node);
@@ -443,7 +444,7 @@ int main(int argc, char** argv) {
         YAML::Emitter text;
         text.SetDoublePrecision(17);
         text << node;
-        body_scan::writeFileAtomically(
+        body_scan_driver::writeFileAtomically(
             models_out + "/" + walk + ".yaml",
             "# Fitted body models of walk " + walk +
                 " (evaluate_body_fit --bvh --models): the 4 poses of\n# thesis 5.3 in order "
@@ -457,7 +458,7 @@ int main(int argc, char** argv) {
   }
   if (!out.empty()) {
     try {
-      body_scan::writeFileAtomically(out, yaml.str());
+      body_scan_driver::writeFileAtomically(out, yaml.str());
     } catch (const std::exception& error) {
       std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
       return 1;

@@ -28,12 +28,13 @@
 
 namespace {
 
-using body_gait::RepresentativePoses;
+using body_gait_model::RepresentativePoses;
 
-body_gait::GaitSet gaitSetNamed(const std::string& name) {
-  const std::map<std::string, body_gait::GaitSet> sets = {{"eta1", body_gait::GaitSet::kEta1},
-                                                          {"eta2", body_gait::GaitSet::kEta2},
-                                                          {"eta3", body_gait::GaitSet::kEta3}};
+body_gait_model::GaitSet gaitSetNamed(const std::string& name) {
+  const std::map<std::string, body_gait_model::GaitSet> sets = {
+      {"eta1", body_gait_model::GaitSet::kEta1},
+      {"eta2", body_gait_model::GaitSet::kEta2},
+      {"eta3", body_gait_model::GaitSet::kEta3}};
   const auto found = sets.find(name);
   if (found == sets.end())
     throw std::invalid_argument("~gait_set '" + name +
@@ -47,12 +48,12 @@ RepresentativePoses simulatedWalk(int person, std::uint32_t seed, int trial, dou
                                   std::string& name) {
   if (person < 0 || person > 9999)
     throw std::invalid_argument("~person must be 0..9999, got " + std::to_string(person));
-  const auto people = body_gait::eval::simulatedPeople(person + 1, seed);
+  const auto people = body_gait_model::eval::simulatedPeople(person + 1, seed);
   name = people[person].name;
   RepresentativePoses poses;
   for (int index = 1; index <= 4; ++index)
-    poses[index - 1] = body_gait::eval::modelFromSkeleton(
-        body_gait::eval::walkingSubject(people[person], index, trial, heading));
+    poses[index - 1] = body_gait_model::eval::modelFromSkeleton(
+        body_gait_model::eval::walkingSubject(people[person], index, trial, heading));
   return poses;
 }
 
@@ -74,23 +75,24 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  body_gait::GaitCycle cycle;
+  body_gait_model::GaitCycle cycle;
   std::string subject;
   try {
     RepresentativePoses poses;
     if (!poses_file.empty()) {
-      poses = body_gait::loadRepresentativePoses(poses_file);
+      poses = body_gait_model::loadRepresentativePoses(poses_file);
       subject = pnh.param<std::string>("subject", "");
     } else {
       poses = simulatedWalk(pnh.param("person", 0), pnh.param("seed", 1), pnh.param("trial", 0),
                             pnh.param("heading", 0.0), subject);
     }
     if (!save_file.empty()) {
-      body_gait::saveRepresentativePoses(save_file, poses);
+      body_gait_model::saveRepresentativePoses(save_file, poses);
       ROS_INFO("wrote the 4 poses to %s", save_file.c_str());
     }
-    poses = body_gait::gaitSet(poses, gaitSetNamed(pnh.param<std::string>("gait_set", "eta3")));
-    cycle = body_gait::reconstructGaitCycle(poses);
+    poses =
+        body_gait_model::gaitSet(poses, gaitSetNamed(pnh.param<std::string>("gait_set", "eta3")));
+    cycle = body_gait_model::reconstructGaitCycle(poses);
   } catch (const std::exception& e) {
     ROS_ERROR("no gait cycle to play: %s", e.what());
     return 1;
@@ -108,30 +110,32 @@ int main(int argc, char** argv) {
   std_msgs::Header header;
   header.frame_id = world_frame;
   header.stamp = ros::Time::now();
-  sequence_pub.publish(body_gait::toMsg(cycle, header, subject));
+  sequence_pub.publish(body_gait_model::toMsg(cycle, header, subject));
   if (filmstrip_spacing > 0) {
     // To the walker's left: up x direction.
     const Eigen::Vector3d left = Eigen::Vector3d::UnitZ().cross(cycle.velocity.normalized());
-    filmstrip_pub.publish(
-        body_gait::gaitSequenceMarkers(cycle, header, filmstrip_spacing, filmstrip_left * left));
+    filmstrip_pub.publish(body_gait_model::gaitSequenceMarkers(cycle, header, filmstrip_spacing,
+                                                               filmstrip_left * left));
   }
   // r and the shape are the same in every frame (eq 5.13): one URDF for the whole cycle.
-  nh.setParam("robot_description", body_gait::modelUrdf(cycle.frames[0], "body_gait", link_prefix));
+  nh.setParam("robot_description",
+              body_gait_model::modelUrdf(cycle.frames[0], "body_gait", link_prefix));
   ROS_INFO("gait cycle of %s: stride %.2f m, %.3f m per frame, %d frames at %.1f Hz",
            subject.empty() ? "the given poses" : subject.c_str(), cycle.stride_length,
-           cycle.velocity.norm(), body_gait::kGaitCycleFrames, frame_rate);
+           cycle.velocity.norm(), body_gait_model::kGaitCycleFrames, frame_rate);
 
   ros::Rate rate(frame_rate);
   for (long step = 0; ros::ok(); ++step) {
-    const int frame = static_cast<int>(step % body_gait::kGaitCycleFrames);  // 0-based
-    const long walked = (step / body_gait::kGaitCycleFrames) % cycles;       // cycles walked so far
-    body_gait::BodyModel model = cycle.frames[frame];
-    model.p.head<3>() += walked * body_gait::kGaitCycleFrames * cycle.velocity;
+    const int frame = static_cast<int>(step % body_gait_model::kGaitCycleFrames);  // 0-based
+    const long walked =
+        (step / body_gait_model::kGaitCycleFrames) % cycles;  // cycles walked so far
+    body_gait_model::BodyModel model = cycle.frames[frame];
+    model.p.head<3>() += walked * body_gait_model::kGaitCycleFrames * cycle.velocity;
     header.stamp = ros::Time::now();
-    model_pub.publish(body_gait::toMsg(model, header));
-    marker_pub.publish(body_gait::modelMarkers(model, false, header));
-    joint_pub.publish(body_gait::jointStates(model, header));
-    tf.sendTransform(body_gait::modelTransforms(model, header, link_prefix));
+    model_pub.publish(body_gait_model::toMsg(model, header));
+    marker_pub.publish(body_gait_model::modelMarkers(model, false, header));
+    joint_pub.publish(body_gait_model::jointStates(model, header));
+    tf.sendTransform(body_gait_model::modelTransforms(model, header, link_prefix));
     ros::spinOnce();
     rate.sleep();
   }

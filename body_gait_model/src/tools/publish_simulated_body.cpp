@@ -15,18 +15,18 @@ int main(int argc, char** argv) {
     ROS_ERROR("~subject must be 0..20 and ~pose 1..4 (got %d, %d)", subject, pose);
     return 1;
   }
-  auto spec = body_gait::eval::simulatedSubjects(subject + 1)[subject];
-  spec.pose = body_gait::eval::gaitPose(pose, heading);
-  body_gait::eval::ScanRig rig;
+  auto spec = body_gait_model::eval::simulatedSubjects(subject + 1)[subject];
+  spec.pose = body_gait_model::eval::gaitPose(pose, heading);
+  body_gait_model::eval::ScanRig rig;
   rig.noise_sigma = 0.002;
-  const auto body = body_gait::eval::sampleBody(spec, rig);
+  const auto body = body_gait_model::eval::sampleBody(spec, rig);
   ros::Publisher pub = nh.advertise<sensor_msgs::PointCloud2>("body_scan/cloud", 1, true);
   std_msgs::Header header;
   header.frame_id = "world";
   ROS_INFO("simulated %s in gait pose %d: %zu points", spec.name.c_str(), pose, body.points.size());
   do {
     header.stamp = ros::Time::now();
-    pub.publish(body_gait::cloudToMsg(body.points, header));
+    pub.publish(body_gait_model::cloudToMsg(body.points, header));
     ros::spinOnce();
   } while (period > 0 && ros::ok() && ros::Duration(period).sleep());
   if (period <= 0) ros::spin();  // latched: stay up for late subscribers

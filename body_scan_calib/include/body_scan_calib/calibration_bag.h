@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 struct CalibrationBagError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -41,4 +41,4 @@ BagConversionResult bagToCalibrationFolder(
     const std::string& bag_path, const std::string& folder, const BagConversionOptions& options,
     const std::function<void(const std::string&)>& progress = {});
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 // The folder of the evaluation spheres beside the pose_NN folders (capture_folder.h writes
 // and reads the frames: savePatternFrames, loadPatternFrames).
@@ -30,4 +30,4 @@ int removeOldCaptures(const std::string& folder);
 // indices of each run.
 std::vector<std::vector<size_t>> groupConsecutiveScanIds(const std::vector<uint32_t>& scan_ids);
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 // Scene-file text (body_scan_driver/config/scenes format) of the rig's board scene: the one
 // definition of the rig's board scene (rig::boardScene parses it), world frame; also what the
@@ -31,9 +31,9 @@ std::string sphereSceneYaml(const std::vector<Eigen::Vector3d>& centers_in_camer
 // the captures are empty or differ in frame count, size or type.
 std::vector<cv::Mat> averageCaptures(const std::vector<std::vector<cv::Mat>>& captures);
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib
 
-namespace body_scan::calib::rig {
+namespace body_scan_calib::rig {
 
 // Poses (board centre, camera frame) that together see every stripe a 0.8-1.2 m scene needs on
 // >= 3 poses (stripes 53-249 of the default pair: the spheres, the body, the calibration
@@ -47,19 +47,20 @@ constexpr double kBoardLightAlbedo = 0.85, kBoardDarkAlbedo = 0.3;
 // A scene with the printed board at `board_center_in_camera` (board x along the pose's x, the
 // board facing the camera), mounted on a larger white panel (the light border a checker detector
 // needs around the board).
-std::shared_ptr<sim::Scene> boardScene(const Checkerboard& board,
-                                       const Eigen::Isometry3d& board_center_in_camera,
-                                       const Eigen::Isometry3d& world_from_camera);
+std::shared_ptr<body_scan_driver::sim::Scene> boardScene(
+    const Checkerboard& board, const Eigen::Isometry3d& board_center_in_camera,
+    const Eigen::Isometry3d& world_from_camera);
 
 // Five spheres (radius 25 mm) about 1 m in front of the pair, numbered top left to bottom right
 // (Fig 3.7), the outer four toward the image corners where the models differ most.
 std::vector<Eigen::Vector3d> defaultSphereCenters();
-std::shared_ptr<sim::Scene> sphereScene(const std::vector<Eigen::Vector3d>& centers_in_camera,
-                                        double radius, const Eigen::Isometry3d& world_from_camera);
+std::shared_ptr<body_scan_driver::sim::Scene> sphereScene(
+    const std::vector<Eigen::Vector3d>& centers_in_camera, double radius,
+    const Eigen::Isometry3d& world_from_camera);
 
 // The capture protocol for static targets: `exposures` renders with independent sensor noise,
 // averaged per pattern frame (noise down by sqrt(exposures)), rounded back to 8 bits.
-std::vector<cv::Mat> captureAveraged(const sim::VirtualPair& pair, int exposures,
+std::vector<cv::Mat> captureAveraged(const body_scan_driver::sim::VirtualPair& pair, int exposures,
                                      uint32_t first_scan_id);
 
-}  // namespace body_scan::calib::rig
+}  // namespace body_scan_calib::rig

@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 struct CameraCalibrationError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -41,7 +41,7 @@ struct CameraCalibrationOptions {
 };
 
 struct CameraCalibrationResult {
-  PinholeCamera camera;                            // fx=alpha, fy=beta, gamma, u0, v0, k1, k2
+  body_scan_driver::PinholeCamera camera;          // fx=alpha, fy=beta, gamma, u0, v0, k1, k2
   std::vector<Eigen::Isometry3d> board_to_camera;  // one per view
   double rms_px = 0;                               // sqrt(mean squared reprojection error)
   std::vector<double> per_view_rms_px;
@@ -57,7 +57,7 @@ CameraCalibrationResult calibrateCamera(
     const CameraCalibrationOptions& options = {});
 
 // Pose of a board of known camera (PnP, refined): used per reference-plane pose.
-Eigen::Isometry3d estimateBoardPose(const PinholeCamera& camera,
+Eigen::Isometry3d estimateBoardPose(const body_scan_driver::PinholeCamera& camera,
                                     const std::vector<Eigen::Vector2d>& corners,
                                     const Checkerboard& board);
 
@@ -71,7 +71,7 @@ Eigen::Matrix3d estimateHomography(const std::vector<Eigen::Vector2d>& plane_poi
 // Zhang's closed form: intrinsics from V b = 0 (eqs 3.16-3.22), then each view's pose
 // (eqs 3.23-3.26, rotation projected onto SO(3)). No distortion (k1 = k2 = 0).
 struct ClosedFormCalibration {
-  PinholeCamera camera;
+  body_scan_driver::PinholeCamera camera;
   std::vector<Eigen::Isometry3d> board_to_camera;
 };
 ClosedFormCalibration zhangClosedForm(const std::vector<Eigen::Matrix3d>& homographies,
@@ -79,8 +79,9 @@ ClosedFormCalibration zhangClosedForm(const std::vector<Eigen::Matrix3d>& homogr
 
 // Radial k1, k2 by linear least squares (Zhang sec. 3.3) given the ideal projections.
 Eigen::Vector2d estimateRadialDistortion(
-    const PinholeCamera& camera, const std::vector<Eigen::Isometry3d>& board_to_camera,
+    const body_scan_driver::PinholeCamera& camera,
+    const std::vector<Eigen::Isometry3d>& board_to_camera,
     const std::vector<std::vector<Eigen::Vector2d>>& image_corners_per_view,
     const Checkerboard& board);
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 struct CameraCalibrationReport {
   std::string camera_name;
@@ -21,12 +21,12 @@ struct CameraCalibrationReport {
 // The YAML text of a report (what saveCameraCalibration writes).
 std::string cameraCalibrationYaml(const CameraCalibrationReport& report);
 
-// Writes atomically (body_scan::writeFileAtomically): readers never see a partial file.
+// Writes atomically (body_scan_driver::writeFileAtomically): readers never see a partial file.
 // Throws CameraCalibrationError naming the file and the fix.
 void saveCameraCalibration(const std::string& path, const CameraCalibrationReport& report);
 
 // Reads the camera part of a camera calibration file or of a pair calibration file.
 // Throws CameraCalibrationError naming the file, the problem and the fix.
-PinholeCamera loadCameraCalibration(const std::string& path);
+body_scan_driver::PinholeCamera loadCameraCalibration(const std::string& path);
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -12,10 +12,11 @@
 #include <optional>
 #include <vector>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 // 3D grid point in the cylinder frame (base centre at the origin, axis +z, metres).
-inline Eigen::Vector3d cylinderGridPoint(const CalibrationCylinderLayout& layout, int id) {
+inline Eigen::Vector3d cylinderGridPoint(const body_scan_driver::CalibrationCylinderLayout& layout,
+                                         int id) {
   return layout.gridPoint(id);
 }
 
@@ -33,18 +34,17 @@ struct CylinderDetectionStats {
 
 // Detects the markers, predicts the checker corners of each marker's square through the
 // marker's homography and refines them with cv::cornerSubPix. gray: CV_8UC1.
-std::vector<GridPointDetection> detectCylinderGridPoints(const cv::Mat& gray,
-                                                         const CalibrationCylinderLayout& layout,
-                                                         CylinderDetectionStats* stats = nullptr);
+std::vector<GridPointDetection> detectCylinderGridPoints(
+    const cv::Mat& gray, const body_scan_driver::CalibrationCylinderLayout& layout,
+    CylinderDetectionStats* stats = nullptr);
 
 // Camera-frame point of a grid point: the stripe coordinate at its subpixel pixel from a local
 // least-squares plane s = a + b du + c dv over the decoded pixels within `radius`, then the
 // undistorted ray meets that stripe's plane (eqs 3.9-3.12). nullopt when too few pixels decode
 // around it, the fit is poor or the stripe was never calibrated.
-std::optional<Eigen::Vector3d> triangulateAtPixel(const cv::Mat1f& stripe_coordinate,
-                                                  const Eigen::Vector2d& pixel,
-                                                  const PairCalibration& calibration,
-                                                  int radius = 4);
+std::optional<Eigen::Vector3d> triangulateAtPixel(
+    const cv::Mat1f& stripe_coordinate, const Eigen::Vector2d& pixel,
+    const body_scan_driver::PairCalibration& calibration, int radius = 4);
 
 struct TriangulatedGridPoint {
   int id;
@@ -61,7 +61,7 @@ struct CylinderObservation {
 };
 
 CylinderObservation observeCylinder(const cv::Mat& gray, const cv::Mat1f& stripe_coordinate,
-                                    const PairCalibration& calibration,
-                                    const CalibrationCylinderLayout& layout);
+                                    const body_scan_driver::PairCalibration& calibration,
+                                    const body_scan_driver::CalibrationCylinderLayout& layout);
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 struct JointRefinementInput {
-  PinholeCamera camera;
+  body_scan_driver::PinholeCamera camera;
   std::vector<Eigen::Isometry3d> board_to_camera;
   std::vector<std::vector<Eigen::Vector2d>> corners;   // per pose, row-major like board_points
   std::vector<Eigen::Vector3d> board_points;           // corner positions on the board (z = 0)
@@ -23,7 +23,7 @@ struct JointRefinementInput {
 };
 
 struct JointRefinementResult {
-  PinholeCamera camera;
+  body_scan_driver::PinholeCamera camera;
   std::vector<Eigen::Isometry3d> board_to_camera;
   double corner_rms_px_before = 0, corner_rms_px_after = 0;
   double plane_rms_m_before = 0, plane_rms_m_after = 0;
@@ -35,4 +35,4 @@ struct JointRefinementResult {
 // noise levels); a Huber loss limits checker-edge outliers. Skew stays fixed at its input.
 JointRefinementResult refineJointly(const JointRefinementInput& input);
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

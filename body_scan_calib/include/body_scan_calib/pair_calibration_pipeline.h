@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 struct PairCalibrationError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -30,7 +30,7 @@ struct PairCalibrationError : std::runtime_error {
 inline Checkerboard referenceBoard() { return Checkerboard{9, 6, 0.05}; }
 
 struct CameraAndBoardPoses {
-  PinholeCamera camera;
+  body_scan_driver::PinholeCamera camera;
   std::vector<Eigen::Isometry3d> board_to_camera;  // board frame at the first inner corner
   std::vector<std::vector<Eigen::Vector2d>> corners;
   double rms_px = 0;
@@ -47,8 +47,8 @@ CameraAndBoardPoses estimateCameraAndBoardPoses(const std::vector<cv::Mat>& boar
 
 // Pixels of the board inside its inner corners plus half a square (the printed area that is
 // surely board: the board's own border and background are excluded).
-cv::Mat1b boardRegion(const PinholeCamera& camera, const Eigen::Isometry3d& board_to_camera,
-                      const Checkerboard& board);
+cv::Mat1b boardRegion(const body_scan_driver::PinholeCamera& camera,
+                      const Eigen::Isometry3d& board_to_camera, const Checkerboard& board);
 
 using Progress = std::function<void(const std::string&)>;
 
@@ -63,14 +63,15 @@ struct PairCalibrationOutcome {
   CameraAndBoardPoses camera;
   ProjectorCalibrationResult planes;
   PinholeProjectorFit pinhole;
-  PairCalibration calibration;          // the plane model (approach iii): what is saved
-  PairCalibration pinhole_calibration;  // the baseline (approach i), planes p1 - s p2
-  std::string refinement_summary;       // empty when not refined
+  body_scan_driver::PairCalibration calibration;  // the plane model (approach iii): what is saved
+  body_scan_driver::PairCalibration
+      pinhole_calibration;         // the baseline (approach i), planes p1 - s p2
+  std::string refinement_summary;  // empty when not refined
 };
 
 // pose_frames: per reference-plane pose the pattern set's frames (CV_8UC1, PatternLayout order).
 PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& pose_frames,
-                                     const PatternLayout& layout,
+                                     const body_scan_driver::PatternLayout& layout,
                                      const PairCalibrationOptions& options,
                                      const Progress& progress = {});
 
@@ -94,10 +95,10 @@ struct AccuracyEvaluation {
 // Decodes the sphere capture, triangulates it with both models and fits the ideal spheres.
 // nominal_centers place the spheres (to within capture_radius); true_centers (optional, the
 // simulator's) add the centre error. Throws PairCalibrationError if a sphere has no points.
-AccuracyEvaluation evaluateSphereAccuracy(const PairCalibration& plane_model,
-                                          const PairCalibration& pinhole_model,
+AccuracyEvaluation evaluateSphereAccuracy(const body_scan_driver::PairCalibration& plane_model,
+                                          const body_scan_driver::PairCalibration& pinhole_model,
                                           const std::vector<cv::Mat>& frames,
-                                          const PatternLayout& layout,
+                                          const body_scan_driver::PatternLayout& layout,
                                           const std::vector<Eigen::Vector3d>& nominal_centers,
                                           const std::vector<Eigen::Vector3d>& true_centers,
                                           double radius, int exposures);
@@ -108,4 +109,4 @@ std::string accuracyReportYaml(const PairCalibrationOutcome& outcome,
                                const std::vector<AccuracyEvaluation>& evaluations,
                                const std::vector<std::string>& notes);
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 struct PinholeProjector {
   Eigen::Matrix<double, 2, 4> projection;  // rows p1, p2; scale is arbitrary (|P| = 1)
@@ -19,7 +19,7 @@ struct PinholeProjector {
   Eigen::Vector4d planeAt(double stripe_coordinate) const;
   // The plane of every stripe centre (i + 0.5). They are left unnormalized, so the Triangulator's
   // linear interpolation between two centres gives exactly planeAt(s).
-  StripePlaneProjector toStripePlanes(int stripe_count) const;
+  body_scan_driver::StripePlaneProjector toStripePlanes(int stripe_count) const;
 };
 
 struct PinholeProjectorFit {
@@ -34,4 +34,4 @@ struct PinholeProjectorFit {
 PinholeProjectorFit estimatePinholeProjector(const std::vector<Eigen::Vector3d>& points,
                                              const std::vector<double>& stripe_coordinates);
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

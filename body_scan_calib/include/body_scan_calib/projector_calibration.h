@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 // A point of the centre line of one stripe in a decoded image: where the decoded coordinate
 // equals stripe + 0.5 (the plane of stripe i is its centre, see StripePlaneProjector).
@@ -34,7 +34,7 @@ Eigen::Matrix<double, 4, 3> imageToCameraTransform(const Eigen::Isometry3d& boar
 
 // Lifts distorted pixels to the reference plane (eq 3.30 after undistortion, eq 3.3). Points
 // whose ray misses the plane (behind the camera) are NaN.
-std::vector<Eigen::Vector3d> liftStripePixels(const PinholeCamera& camera,
+std::vector<Eigen::Vector3d> liftStripePixels(const body_scan_driver::PinholeCamera& camera,
                                               const Eigen::Isometry3d& board_to_camera,
                                               const std::vector<StripeCentreSample>& samples);
 
@@ -61,9 +61,9 @@ struct ProjectorCalibrationOptions {
 };
 
 struct ProjectorCalibrationResult {
-  StripePlaneProjector projector;        // NaN plane for every missing stripe
-  std::vector<int> poses_per_stripe;     // how many poses saw each stripe
-  std::vector<int> points_per_stripe;    // points used in the final fit
+  body_scan_driver::StripePlaneProjector projector;  // NaN plane for every missing stripe
+  std::vector<int> poses_per_stripe;                 // how many poses saw each stripe
+  std::vector<int> points_per_stripe;                // points used in the final fit
   std::vector<double> rms_per_stripe_m;  // point-to-plane rms of the final fit (NaN if missing)
   std::vector<int> missing_stripes;      // seen on fewer than min_poses_per_stripe poses
   double rms_m = 0;                      // over all fitted points
@@ -77,11 +77,12 @@ struct ProjectorCalibrationResult {
 // Throws std::invalid_argument naming the problem when there are fewer than 3 poses or a
 // coordinate image is empty.
 ProjectorCalibrationResult calibrateStripePlanes(
-    const PinholeCamera& camera, const std::vector<ReferencePlaneObservation>& observations,
+    const body_scan_driver::PinholeCamera& camera,
+    const std::vector<ReferencePlaneObservation>& observations,
     const ProjectorCalibrationOptions& options = {});
 
 // Orients plane to the suite's sign convention (normal with a non-positive dominant y or x
 // component, as the simulator's factory planes), so that neighbouring planes interpolate.
 Eigen::Vector4d orientPlane(const Eigen::Vector4d& plane);
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

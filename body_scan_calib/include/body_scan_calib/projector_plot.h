@@ -6,11 +6,11 @@
 
 #include <opencv2/core/mat.hpp>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 // Three stacked panels (BGR image). Estimated planes are dots; reference planes (e.g. the
 // simulator's true ones), if given, a thin line. NaN planes are left out.
-cv::Mat plotProjectorParameters(const StripePlaneProjector& estimated,
-                                const StripePlaneProjector* reference = nullptr);
+cv::Mat plotProjectorParameters(const body_scan_driver::StripePlaneProjector& estimated,
+                                const body_scan_driver::StripePlaneProjector* reference = nullptr);
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

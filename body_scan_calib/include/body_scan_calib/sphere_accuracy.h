@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 struct IdealSphereFit {
   Eigen::Vector3d center;
@@ -25,4 +25,4 @@ std::vector<std::vector<Eigen::Vector3d>> segmentSpheres(
     const std::vector<Eigen::Vector3d>& cloud, const std::vector<Eigen::Vector3d>& nominal_centers,
     double capture_radius);
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

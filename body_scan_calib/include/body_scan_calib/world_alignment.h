@@ -1,6 +1,6 @@
 // World alignment of projector-camera pairs (thesis sec. 4.3.2): the 12-parameter affine of
 // eq 4.1 per pair by least squares, its polar split into a rigid part and a residual linear part
-// (body_scan::WorldAlignment), and the accuracy E_h of eq 4.2 on points seen by two pairs.
+// (body_scan_driver::WorldAlignment), and the accuracy E_h of eq 4.2 on points seen by two pairs.
 #pragma once
 
 #include <body_scan_driver/pair_model.h>
@@ -11,18 +11,18 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::calib {
+namespace body_scan_calib {
 
 struct WorldAlignmentError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
 struct AffineFit {
-  Eigen::Matrix<double, 3, 4> affine;  // H_a's top three rows
-  WorldAlignment alignment;            // its polar split
-  int points = 0;                      // used in the fit
-  double rms_m = 0, max_m = 0;         // residuals |H_a M_c - M_w| of those points
-  std::vector<int> outliers;           // indices of the input points left out, ascending
+  Eigen::Matrix<double, 3, 4> affine;          // H_a's top three rows
+  body_scan_driver::WorldAlignment alignment;  // its polar split
+  int points = 0;                              // used in the fit
+  double rms_m = 0, max_m = 0;                 // residuals |H_a M_c - M_w| of those points
+  std::vector<int> outliers;                   // indices of the input points left out, ascending
 };
 
 // Least-squares H_a from >= 4 correspondences camera point -> world point that do not lie on
@@ -37,7 +37,7 @@ AffineFit fitWorldAffine(const std::vector<Eigen::Vector3d>& camera_points,
 struct AlignedPair {
   std::string pair_id;
   std::map<int, Eigen::Vector3d> camera_points;
-  WorldAlignment alignment;
+  body_scan_driver::WorldAlignment alignment;
 };
 
 // E_h (eq 4.2) over every grid point seen by two pairs: for each such point and each two pairs
@@ -55,4 +55,4 @@ struct SharedPointAccuracy {
 };
 SharedPointAccuracy evaluateSharedPoints(const std::vector<AlignedPair>& pairs);
 
-}  // namespace body_scan::calib
+}  // namespace body_scan_calib

@@ -85,7 +85,8 @@ class WorldAlignmentPublisher {
       if (pair.loaded_version == version) continue;
       pair.loaded_version = version;
       try {
-        const body_scan::PairCalibration calibration = body_scan::loadCalibration(pair.path);
+        const body_scan_driver::PairCalibration calibration =
+            body_scan_driver::loadCalibration(pair.path);
         if (!calibration.alignment) {
           ROS_ERROR("[%s] %s has no world_alignment section: run align_world for this pair",
                     pair.pair_id.c_str(), pair.path.c_str());

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 struct FileWriteError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -15,4 +15,4 @@ struct FileWriteError : std::runtime_error {
 // Creates missing parent folders. Throws FileWriteError naming the file and the fix.
 void writeFileAtomically(const std::string& path, const std::string& contents);
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

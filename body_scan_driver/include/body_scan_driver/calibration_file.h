@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 struct CalibrationFileError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -25,4 +25,4 @@ std::string cameraPartYaml(const std::string& camera_name, const PinholeCamera& 
 // file. Creates missing parent folders.
 void saveCalibration(const std::string& path, const PairCalibration& calibration);
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

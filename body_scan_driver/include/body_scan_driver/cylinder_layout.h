@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <cmath>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 struct CalibrationCylinderLayout {
   double radius = 0.2075;  // 415 mm diameter
@@ -58,4 +58,4 @@ struct CalibrationCylinderLayout {
   }
 };
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

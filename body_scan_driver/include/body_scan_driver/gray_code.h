@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 constexpr int kMinBits = 1;
 constexpr int kMaxBits = 10;
@@ -55,4 +55,4 @@ class PatternLayout {
   bool inverse_frames_;
 };
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

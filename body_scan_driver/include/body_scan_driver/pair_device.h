@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 struct PatternCapture {
   std::vector<cv::Mat> frames;  // CV_8UC1 in PatternLayout order
@@ -82,4 +82,4 @@ std::unique_ptr<PairDevice> makeSimulatedRigPair(const std::string& rig_file,
                                                  const std::string& pair_id,
                                                  const std::string& scene_file);
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

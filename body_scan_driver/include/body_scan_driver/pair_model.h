@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 // Pinhole camera, eqs 3.1-3.4: A = [alpha gamma u0; 0 beta v0; 0 0 1]; radial distortion k1, k2
 // about the principal point in normalized coordinates. Pixel centres are at integer (u, v).
@@ -75,4 +75,4 @@ struct PairCalibration {
 // through the ideal normalized point (x, y, 1) that lies on the plane; NaN if none in front.
 Eigen::Vector3d intersectRayPlane(const Eigen::Vector2d& normalized, const Eigen::Vector4d& plane);
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

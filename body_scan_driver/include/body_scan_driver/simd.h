@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 // Ordered: a higher level includes the lower ones.
 enum class SimdLevel { kSse2 = 0, kAvx2 = 1, kAvx512 = 2 };
@@ -20,4 +20,4 @@ SimdLevel effectiveSimdLevel(SimdLevel requested);
 std::vector<SimdLevel> availableSimdLevels();
 std::string simdLevelName(SimdLevel level);
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

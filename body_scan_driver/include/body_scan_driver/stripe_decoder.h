@@ -11,7 +11,7 @@
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 constexpr uint16_t kInvalidStripe = 0xFFFF;
 
@@ -103,4 +103,4 @@ class StripeDecoder {
 // Throws std::invalid_argument unless frames match the layout (count, type, equal sizes).
 void checkFrames(const PatternLayout& layout, const std::vector<cv::Mat>& frames);
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

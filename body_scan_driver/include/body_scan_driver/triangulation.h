@@ -9,7 +9,7 @@
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 // triangulate() is const and keeps no state between calls: one instance may be used from
 // several threads at once.
@@ -37,4 +37,4 @@ class Triangulator {
   std::vector<float> plane_deltas_;   // planes_[i + 1] - planes_[i], for interpolation
 };
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

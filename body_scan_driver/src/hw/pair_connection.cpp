@@ -4,7 +4,7 @@
 #include <exception>
 #include <stdexcept>
 
-namespace body_scan::hw {
+namespace body_scan_driver::hw {
 
 const char* toString(ConnectionState state) {
   switch (state) {
@@ -74,4 +74,4 @@ void PairConnection::fail(const std::string& reason, double now_s) {
   next_attempt_s_ = now_s + retry_interval_s_;
 }
 
-}  // namespace body_scan::hw
+}  // namespace body_scan_driver::hw

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace body_scan::hw {
+namespace body_scan_driver::hw {
 
 int stripeOfProjectorPixel(int pixel, int pixels_along_axis, int stripe_count) {
   return static_cast<int>(static_cast<int64_t>(pixel) * stripe_count / pixels_along_axis);
@@ -98,4 +98,4 @@ int measureDisplayLatency(PatternProjector& projector, FrameCamera& camera, int 
   return max_frames;  // unreachable: the last level is white
 }
 
-}  // namespace body_scan::hw
+}  // namespace body_scan_driver::hw

@@ -9,7 +9,7 @@
 #include <X11/Xlib.h>
 #include <X11/Xutil.h>
 
-namespace body_scan::hw {
+namespace body_scan_driver::hw {
 namespace {
 
 Display* openDisplay(const std::string& name) {
@@ -176,4 +176,4 @@ cv::Mat grabScreen(const std::string& display_name, int screen) {
   return rgb;
 }
 
-}  // namespace body_scan::hw
+}  // namespace body_scan_driver::hw

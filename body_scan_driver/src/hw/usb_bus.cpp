@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-namespace body_scan::hw {
+namespace body_scan_driver::hw {
 
 std::string vendorProduct(uint16_t vendor_id, uint16_t product_id) {
   char text[10];
@@ -150,4 +150,4 @@ class LibusbBus : public UsbBus {
 
 std::unique_ptr<UsbBus> makeLibusbBus() { return std::make_unique<LibusbBus>(); }
 
-}  // namespace body_scan::hw
+}  // namespace body_scan_driver::hw

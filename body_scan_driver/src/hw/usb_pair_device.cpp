@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-namespace body_scan::hw {
+namespace body_scan_driver::hw {
 namespace {
 
 const char* const kListDevicesHint =
@@ -220,4 +220,4 @@ DeviceStatus UsbPairDevice::status() const {
   return status_;
 }
 
-}  // namespace body_scan::hw
+}  // namespace body_scan_driver::hw

@@ -8,7 +8,7 @@
 #include <mutex>
 #include <stdexcept>
 
-namespace body_scan::hw {
+namespace body_scan_driver::hw {
 namespace {
 
 constexpr size_t kMaxQueuedFrames = 8;     // older frames are dropped (and counted)
@@ -181,4 +181,4 @@ StreamStatistics UvcCamera::statistics() const {
   return impl_->stats;
 }
 
-}  // namespace body_scan::hw
+}  // namespace body_scan_driver::hw

@@ -23,7 +23,7 @@
 #include <mutex>
 #include <pluginlib/class_list_macros.hpp>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 class PairDriverNodelet : public nodelet::Nodelet {
  private:
@@ -289,6 +289,6 @@ class PairDriverNodelet : public nodelet::Nodelet {
   tf2_ros::StaticTransformBroadcaster tf_broadcaster_;
 };
 
-}  // namespace body_scan
+}  // namespace body_scan_driver
 
-PLUGINLIB_EXPORT_CLASS(body_scan::PairDriverNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(body_scan_driver::PairDriverNodelet, nodelet::Nodelet)

@@ -11,8 +11,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const auto device = body_scan::makeSimulatedPair(argv[1], argv[2]);
-    body_scan::saveCalibration(argv[3], *device->factoryCalibration());
+    const auto device = body_scan_driver::makeSimulatedPair(argv[1], argv[2]);
+    body_scan_driver::saveCalibration(argv[3], *device->factoryCalibration());
     std::cout << "wrote " << argv[3] << "\n";
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -1,7 +1,7 @@
 #include <body_scan_driver/ros/conversions.h>
 #include <sensor_msgs/image_encodings.h>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 void toImageMessage(const cv::Mat& image, const std_msgs::Header& header, sensor_msgs::Image& msg) {
   msg.header = header;
@@ -67,4 +67,4 @@ void layoutFloatCloud(sensor_msgs::PointCloud2& cloud, uint32_t width, uint32_t 
   cloud.data.resize(static_cast<size_t>(cloud.row_step) * height);
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

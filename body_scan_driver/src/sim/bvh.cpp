@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 BvhError::BvhError(const std::string& source, int line, const std::string& problem)
     : std::runtime_error(source + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " +
@@ -313,4 +313,4 @@ BvhPose poseBvhFrame(const BvhMotion& motion, int frame) {
   return pose;
 }
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

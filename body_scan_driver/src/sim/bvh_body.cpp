@@ -10,7 +10,7 @@
 
 #include "yaml_file.h"
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 namespace {
 
@@ -358,4 +358,4 @@ HumanBodySpec bvhHumanFromYaml(const YAML::Node& object, const std::string& wher
   return spec;
 }
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

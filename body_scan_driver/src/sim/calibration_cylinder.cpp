@@ -4,7 +4,7 @@
 #include <cmath>
 #include <opencv2/aruco.hpp>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 constexpr int kMarkerCells = 6;  // 4x4 bits + a one-cell black border
 
@@ -51,4 +51,4 @@ double CalibrationCylinder::albedoAt(const Eigen::Vector3d& point) const {
              : dark_albedo_;
 }
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 double wrongStripeFraction(const RenderedPatternSet& set, const Scene& scene,
                            const PatternLayout& layout, const std::string& surface_prefix) {
@@ -24,4 +24,4 @@ double wrongStripeFraction(const RenderedPatternSet& set, const Scene& scene,
   return lit > 0 ? static_cast<double>(wrong) / lit : 0.0;
 }
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

@@ -10,7 +10,7 @@
 
 #include "yaml_file.h"
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 Anthropometry Anthropometry::fromStature(double stature) {
   if (!(stature > 0))
@@ -546,4 +546,4 @@ YAML::Node humanBodyToYaml(const HumanBodySpec& spec) {
   return node;
 }
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

@@ -7,7 +7,7 @@
 #include "virtual_pair_keys.h"
 #include "yaml_file.h"
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 namespace {
 
 constexpr double kDegree = M_PI / 180.0;
@@ -93,4 +93,4 @@ Rig loadRig(const std::string& path) {
   return rig;
 }
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

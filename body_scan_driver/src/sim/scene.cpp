@@ -11,7 +11,7 @@
 
 #include "yaml_file.h"
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 namespace {
 
 Eigen::Vector3d anyPerpendicular(const Eigen::Vector3d& n) {
@@ -353,4 +353,4 @@ Scene parseScene(const std::string& yaml_text) {
   return sceneFromYaml(root, "the scene text", "scene text", "");
 }
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

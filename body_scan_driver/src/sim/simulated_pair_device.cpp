@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <mutex>
 
-namespace body_scan {
+namespace body_scan_driver {
 namespace {
 
 // A simulated pair; with a rig, also the projectors of the rig's other pairs (interference).
@@ -107,4 +107,4 @@ std::unique_ptr<PairDevice> makeSimulatedRigPair(const std::string& rig_file,
   return std::make_unique<SimulatedPairDevice>(std::move(own), std::move(others), std::move(scene));
 }
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

@@ -9,7 +9,7 @@
 #include <random>
 #include <stdexcept>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -372,4 +372,4 @@ PairCalibration VirtualPair::factoryCalibration() const {
   return calibration;
 }
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

@@ -7,7 +7,7 @@
 #include "virtual_pair_keys.h"
 #include "yaml_file.h"
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 namespace {
 
 constexpr double kDegree = M_PI / 180.0;
@@ -117,4 +117,4 @@ VirtualPairConfig loadVirtualPairConfig(const std::string& path) {
   return config;
 }
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

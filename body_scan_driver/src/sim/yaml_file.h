@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 // Throws std::runtime_error naming the kind of file, its path and the fix.
 inline YAML::Node loadYamlFile(const std::string& path, const std::string& kind) {
@@ -35,4 +35,4 @@ inline void requireKnownKeys(const YAML::Node& map, const std::vector<std::strin
   }
 }
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

@@ -12,7 +12,7 @@
 #include <vector>
 
 int main(int argc, char** argv) {
-  using namespace body_scan::sim;
+  using namespace body_scan_driver::sim;
   std::string map_path = BODY_SCAN_DRIVER_CONFIG_DIR "/bvh/cmu_joint_map.yaml";
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {

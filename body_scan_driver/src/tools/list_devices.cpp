@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const auto bus = body_scan::hw::makeLibusbBus();
+    const auto bus = body_scan_driver::hw::makeLibusbBus();
     const auto devices = bus->devices();
     std::printf("%-10s %-24s %-8s %-4s\n", "id", "serial", "bus/addr", "uvc");
     int shown = 0;
@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
       char where[16];
       std::snprintf(where, sizeof where, "%03d/%03d", device.bus, device.address);
       std::printf("%-10s %-24s %-8s %-4s\n",
-                  body_scan::hw::vendorProduct(device.vendor_id, device.product_id).c_str(),
+                  body_scan_driver::hw::vendorProduct(device.vendor_id, device.product_id).c_str(),
                   device.serial.empty() ? "-" : device.serial.c_str(), where,
                   device.is_uvc ? "yes" : "no");
       ++shown;

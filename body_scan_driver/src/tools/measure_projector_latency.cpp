@@ -15,7 +15,7 @@
 #include <exception>
 #include <string>
 
-using namespace body_scan::hw;
+using namespace body_scan_driver::hw;
 
 int main(int argc, char** argv) {
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0) {

@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace body_scan::hw::fakes {
+namespace body_scan_driver::hw::fakes {
 
 class FakeBus : public UsbBus {
  public:
@@ -106,4 +106,4 @@ class FakeCamera : public StreamingCamera {
   std::shared_ptr<FakeScreen> screen_;
 };
 
-}  // namespace body_scan::hw::fakes
+}  // namespace body_scan_driver::hw::fakes

@@ -4,7 +4,7 @@
 
 #include <stdexcept>
 
-using namespace body_scan::hw;
+using namespace body_scan_driver::hw;
 
 namespace {
 

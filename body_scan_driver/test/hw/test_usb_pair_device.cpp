@@ -8,8 +8,8 @@
 
 #include "fake_hardware.h"
 
-using namespace body_scan;
-using namespace body_scan::hw;
+using namespace body_scan_driver;
+using namespace body_scan_driver::hw;
 
 namespace {
 

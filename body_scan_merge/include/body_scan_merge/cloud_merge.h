@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_merge {
 
 struct MergeOptions {
   // Scan volume: a vertical cylinder about the world z axis (the subject's place). Points
@@ -111,4 +111,4 @@ MergedCloud mergeClouds(const std::vector<CloudView>& parts, const MergeOptions&
 // CloudMerger::voxelGrid of one cloud, in place.
 void voxelGrid(std::vector<float>& xyzrgb, double leaf);
 
-}  // namespace body_scan
+}  // namespace body_scan_merge

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_merge {
 
 // Points are read as `stride` floats apart: x, y, z at offsets 0..2 and, when rgb_offset >= 0,
 // a PCL-style packed rgb float at rgb_offset. Non-finite points are skipped. The file is
@@ -26,4 +26,4 @@ std::vector<float> readPly(const std::string& path);
 size_t writePcd(const std::string& path, const float* points, size_t count, size_t stride,
                 int rgb_offset);
 
-}  // namespace body_scan
+}  // namespace body_scan_merge

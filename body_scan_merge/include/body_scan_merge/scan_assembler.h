@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_merge {
 
 template <typename Part>
 class ScanAssembler {
@@ -90,4 +90,4 @@ class ScanAssembler {
   std::deque<uint32_t> finished_;
 };
 
-}  // namespace body_scan
+}  // namespace body_scan_merge

@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_merge {
 namespace sim {
 class Scene;
 struct Rig;
@@ -27,20 +27,21 @@ struct SimulatedScan {
 
 // Every pair of the rig with its factory calibration (the simulator's true geometry) and pose:
 // what the timing groups of a simulated rig are planned from.
-std::vector<PairGeometry> rigFactoryGeometry(const sim::Rig& rig);
+std::vector<PairGeometry> rigFactoryGeometry(const body_scan_driver::sim::Rig& rig);
 
 // Groups of pair ids projecting at the same time. Every pair of the rig must be in exactly one
 // group; throws std::invalid_argument naming the pair otherwise.
 using TimingGroupList = std::vector<std::vector<std::string>>;
-TimingGroupList eachPairAlone(const sim::Rig& rig);
-TimingGroupList allPairsTogether(const sim::Rig& rig);
+TimingGroupList eachPairAlone(const body_scan_driver::sim::Rig& rig);
+TimingGroupList allPairsTogether(const body_scan_driver::sim::Rig& rig);
 // The groups planTimingGroups computes from the rig's factory calibrations and poses.
-TimingGroupList plannedTimingGroups(const sim::Rig& rig);
+TimingGroupList plannedTimingGroups(const body_scan_driver::sim::Rig& rig);
 // YAML: a sequence of sequences of pair ids. Throws std::runtime_error naming the file.
 TimingGroupList loadTimingGroups(const std::string& path);
 
-SimulatedScan simulateScan(const sim::Rig& rig, const std::shared_ptr<const sim::Scene>& scene,
+SimulatedScan simulateScan(const body_scan_driver::sim::Rig& rig,
+                           const std::shared_ptr<const body_scan_driver::sim::Scene>& scene,
                            const TimingGroupList& groups, uint32_t scan_id = 1,
                            const MergeOptions& merge = {});
 
-}  // namespace body_scan
+}  // namespace body_scan_merge

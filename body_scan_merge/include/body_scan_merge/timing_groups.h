@@ -11,11 +11,11 @@
 #include <utility>
 #include <vector>
 
-namespace body_scan {
+namespace body_scan_merge {
 
 struct PairGeometry {
   std::string pair_id;
-  PairCalibration calibration;  // camera and stripe planes in the camera frame
+  body_scan_driver::PairCalibration calibration;  // camera and stripe planes in the camera frame
   Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();
 };
 
@@ -68,4 +68,4 @@ std::vector<std::vector<int>> minimumGroups(const std::vector<std::vector<bool>>
 TimingPlan planTimingGroups(const std::vector<PairGeometry>& pairs,
                             const InterferenceProxy& proxy = {});
 
-}  // namespace body_scan
+}  // namespace body_scan_merge

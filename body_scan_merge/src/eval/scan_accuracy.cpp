@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
-namespace body_scan::eval {
+namespace body_scan_merge::eval {
 namespace {
 
 // Uniform hash grid of 3D points for neighbour queries within one cell size.
@@ -55,7 +55,7 @@ bool endsWith(const std::string& text, const std::string& suffix) {
          text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-const Eigen::Vector3d& joint(const std::vector<sim::SkeletonJoint>& skeleton,
+const Eigen::Vector3d& joint(const std::vector<body_scan_driver::sim::SkeletonJoint>& skeleton,
                              const std::string& name) {
   for (const auto& j : skeleton)
     if (j.name == name) return j.position;
@@ -86,14 +86,14 @@ const char* regionName(Region region) {
   }
 }
 
-std::vector<SurfaceSample> sampleBodySurface(const sim::Scene& scene, const std::string& body_name,
-                                             double spacing,
+std::vector<SurfaceSample> sampleBodySurface(const body_scan_driver::sim::Scene& scene,
+                                             const std::string& body_name, double spacing,
                                              std::vector<std::string>* segment_names) {
-  std::vector<const sim::Ellipsoid*> parts;
+  std::vector<const body_scan_driver::sim::Ellipsoid*> parts;
   std::vector<std::string> segments;
   for (const auto& surface : scene.surfaces()) {
     if (surface->name.rfind(body_name + "/", 0) != 0) continue;
-    const auto* ellipsoid = dynamic_cast<const sim::Ellipsoid*>(surface.get());
+    const auto* ellipsoid = dynamic_cast<const body_scan_driver::sim::Ellipsoid*>(surface.get());
     if (!ellipsoid) continue;
     parts.push_back(ellipsoid);
     segments.push_back(surface->name.substr(body_name.size() + 1));
@@ -159,7 +159,7 @@ std::vector<SurfaceSample> sampleBodySurface(const sim::Scene& scene, const std:
   std::vector<SurfaceSample> samples;
   const double golden = M_PI * (3 - std::sqrt(5.0));
   for (size_t i = 0; i < parts.size(); ++i) {
-    const sim::Ellipsoid& part = *parts[i];
+    const body_scan_driver::sim::Ellipsoid& part = *parts[i];
     const Eigen::Vector3d& r = part.radii();
     const double area = ellipsoidArea(r);
     const int count = std::max(16, static_cast<int>(std::ceil(area / (spacing * spacing))));
@@ -194,8 +194,9 @@ std::vector<SurfaceSample> sampleBodySurface(const sim::Scene& scene, const std:
   return samples;
 }
 
-ScanAccuracy evaluateScan(const std::vector<float>& cloud, const sim::Scene& scene,
-                          const AccuracyOptions& options, const std::string& body_name) {
+ScanAccuracy evaluateScan(const std::vector<float>& cloud,
+                          const body_scan_driver::sim::Scene& scene, const AccuracyOptions& options,
+                          const std::string& body_name) {
   std::vector<std::string> segment_names;
   const std::vector<SurfaceSample> samples =
       sampleBodySurface(scene, body_name, options.spacing, &segment_names);
@@ -203,7 +204,7 @@ ScanAccuracy evaluateScan(const std::vector<float>& cloud, const sim::Scene& sce
   result.points = cloud.size() / 4;
   bool has_floor = false;
   for (const auto& surface : scene.surfaces())
-    has_floor |= dynamic_cast<const sim::Plane*>(surface.get()) != nullptr;
+    has_floor |= dynamic_cast<const body_scan_driver::sim::Plane*>(surface.get()) != nullptr;
 
   // Distances: nearest true sample, point-to-plane on its normal (samples are 2 mm apart, so
   // the tangent plane is exact to a few micrometres); the floor when it is nearer.
@@ -306,7 +307,7 @@ std::string accuracyReportYaml(const ScanAccuracy& accuracy, const std::string& 
 
 void writeAccuracyReport(const std::string& path, const ScanAccuracy& accuracy,
                          const std::string& description) {
-  writeFileAtomically(path, accuracyReportYaml(accuracy, description));
+  body_scan_driver::writeFileAtomically(path, accuracyReportYaml(accuracy, description));
 }
 
-}  // namespace body_scan::eval
+}  // namespace body_scan_merge::eval

@@ -19,7 +19,7 @@
 #include <mutex>
 #include <pluginlib/class_list_macros.hpp>
 
-namespace body_scan {
+namespace body_scan_merge {
 
 class MergeNodelet : public nodelet::Nodelet {
  private:
@@ -153,7 +153,8 @@ class MergeNodelet : public nodelet::Nodelet {
     sensor_msgs::PointCloud2Ptr cloud(new sensor_msgs::PointCloud2);
     cloud->header.stamp = stamp.isZero() ? ros::Time::now() : stamp;
     cloud->header.frame_id = world_frame_;
-    layoutFloatCloud(*cloud, static_cast<uint32_t>(merged.size()), 1, /*rgb=*/true);
+    body_scan_driver::layoutFloatCloud(*cloud, static_cast<uint32_t>(merged.size()), 1,
+                                       /*rgb=*/true);
     cloud->is_dense = true;
     std::memcpy(cloud->data.data(), merged.xyzrgb.data(), merged.xyzrgb.size() * sizeof(float));
 
@@ -207,6 +208,6 @@ class MergeNodelet : public nodelet::Nodelet {
   ros::WallTimer timer_;
 };
 
-}  // namespace body_scan
+}  // namespace body_scan_merge
 
-PLUGINLIB_EXPORT_CLASS(body_scan::MergeNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(body_scan_merge::MergeNodelet, nodelet::Nodelet)

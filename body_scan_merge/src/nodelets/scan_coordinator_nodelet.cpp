@@ -27,7 +27,7 @@
 #include <sstream>
 #include <thread>
 
-namespace body_scan {
+namespace body_scan_merge {
 
 class ScanCoordinatorNodelet : public nodelet::Nodelet {
  private:
@@ -86,7 +86,8 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
   // The pose of a pair: tf (world -> <pair>_camera_optical_frame), else its calibration file's
   // world_alignment, else (only once ~plan_wait is over: drivers announce their pose as they
   // come up) the rig file's.
-  std::optional<Eigen::Isometry3d> poseOf(const std::string& id, const PairCalibration& calibration,
+  std::optional<Eigen::Isometry3d> poseOf(const std::string& id,
+                                          const body_scan_driver::PairCalibration& calibration,
                                           bool use_rig, std::string& why) {
     try {
       const geometry_msgs::TransformStamped t = tf_buffer_->lookupTransform(
@@ -101,7 +102,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     if (calibration.alignment) return calibration.alignment->world_from_camera;
     if (!rig_file_.empty() && use_rig) {
       try {
-        if (!rig_) rig_ = sim::loadRig(rig_file_);
+        if (!rig_) rig_ = body_scan_driver::sim::loadRig(rig_file_);
         return rig_->pair(id).world_from_camera;
       } catch (const std::exception& e) {
         why += "; ~rig_file: " + std::string(e.what());
@@ -126,7 +127,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
       PairGeometry pair;
       pair.pair_id = id;
       try {
-        pair.calibration = loadCalibration(path);  // throws naming the file
+        pair.calibration = body_scan_driver::loadCalibration(path);  // throws naming the file
       } catch (const std::exception& e) {
         missing.push_back(id);
         problems.push_back(id + ": " + e.what());
@@ -264,7 +265,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
   double group_seconds_ = 0.5, pair_timeout_ = 10.0, plan_wait_ = 30.0;
   bool all_at_once_ = false;
   std::string rig_file_;
-  std::optional<sim::Rig> rig_;
+  std::optional<body_scan_driver::sim::Rig> rig_;
   InterferenceProxy proxy_;
   TimingPlan plan_;
   uint32_t next_scan_id_ = 0;
@@ -276,6 +277,6 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
   ros::WallTimer scan_timer_;
 };
 
-}  // namespace body_scan
+}  // namespace body_scan_merge
 
-PLUGINLIB_EXPORT_CLASS(body_scan::ScanCoordinatorNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(body_scan_merge::ScanCoordinatorNodelet, nodelet::Nodelet)

@@ -19,7 +19,7 @@
 #include <optional>
 #include <pluginlib/class_list_macros.hpp>
 
-namespace body_scan {
+namespace body_scan_merge {
 namespace {
 
 // A cv::Mat header over an image message's bytes (no copy); nullopt if the encoding differs.
@@ -65,8 +65,8 @@ class TriangulateNodelet : public nodelet::Nodelet {
   bool ensureCalibration(const std::string& pair_id) {
     if (triangulator_) return true;
     try {
-      triangulator_ = std::make_unique<Triangulator>(loadCalibration(calibration_file_), min_range_,
-                                                     max_range_);
+      triangulator_ = std::make_unique<body_scan_driver::Triangulator>(
+          body_scan_driver::loadCalibration(calibration_file_), min_range_, max_range_);
       NODELET_INFO("[%s] calibration loaded from %s (%s)%s", pair_id.c_str(),
                    calibration_file_.c_str(), triangulator_->calibration().source.c_str(),
                    triangulator_->calibration().alignment
@@ -105,8 +105,8 @@ class TriangulateNodelet : public nodelet::Nodelet {
     try {
       if (!decoder_ || decoder_->layout().bits() != set->bits ||
           decoder_->layout().inverseFrames() != set->inverse_frames)
-        decoder_ =
-            std::make_unique<StripeDecoder>(PatternLayout(set->bits, set->inverse_frames), params_);
+        decoder_ = std::make_unique<body_scan_driver::StripeDecoder>(
+            body_scan_driver::PatternLayout(set->bits, set->inverse_frames), params_);
       decoder_->decode(frames, stripes_);
       publish(*set, frames[0].size(), start);
     } catch (const std::exception& e) {
@@ -123,7 +123,7 @@ class TriangulateNodelet : public nodelet::Nodelet {
     pair_cloud->scan_id = set.scan_id;
     sensor_msgs::PointCloud2* cloud = &pair_cloud->cloud;
     cloud->header = set.header;
-    layoutFloatCloud(*cloud, size.width, size.height, /*rgb=*/true);
+    body_scan_driver::layoutFloatCloud(*cloud, size.width, size.height, /*rgb=*/true);
     cloud->is_dense = false;
     float* points = reinterpret_cast<float*>(cloud->data.data());
     const size_t valid = triangulator_->triangulate(stripes_.coordinate, points, 4);
@@ -166,15 +166,15 @@ class TriangulateNodelet : public nodelet::Nodelet {
   }
 
   std::string calibration_file_;
-  DecoderParams params_;
+  body_scan_driver::DecoderParams params_;
   double min_range_ = 0.2, max_range_ = 5.0;
-  std::unique_ptr<Triangulator> triangulator_;
-  std::unique_ptr<StripeDecoder> decoder_;
-  StripeImage stripes_;
+  std::unique_ptr<body_scan_driver::Triangulator> triangulator_;
+  std::unique_ptr<body_scan_driver::StripeDecoder> decoder_;
+  body_scan_driver::StripeImage stripes_;
   ros::Publisher points_pub_, scan_points_pub_, stripe_pub_;
   ros::Subscriber pattern_sub_;
 };
 
-}  // namespace body_scan
+}  // namespace body_scan_merge
 
-PLUGINLIB_EXPORT_CLASS(body_scan::TriangulateNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(body_scan_merge::TriangulateNodelet, nodelet::Nodelet)

@@ -33,11 +33,11 @@ int main(int argc, char** argv) {
     const auto* points = reinterpret_cast<const float*>(cloud->data.data());
     const size_t count = static_cast<size_t>(cloud->width) * cloud->height;
     const size_t written =
-        body_scan::writePly(output, points, count, cloud->point_step / 4, rgb_offset);
+        body_scan_merge::writePly(output, points, count, cloud->point_step / 4, rgb_offset);
     std::printf("%zu points (frame %s) written to %s\n", written, cloud->header.frame_id.c_str(),
                 output.c_str());
     if (!pcd_output.empty()) {
-      body_scan::writePcd(pcd_output, points, count, cloud->point_step / 4, rgb_offset);
+      body_scan_merge::writePcd(pcd_output, points, count, cloud->point_step / 4, rgb_offset);
       std::printf("and to %s\n", pcd_output.c_str());
     }
   } catch (const std::exception& e) {

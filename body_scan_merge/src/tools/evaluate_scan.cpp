@@ -46,21 +46,22 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const std::vector<float> cloud = body_scan::readPly(cloud_path);
-    const body_scan::sim::Scene scene = body_scan::sim::loadScene(scene_path);
-    const auto accuracy = body_scan::eval::evaluateScan(cloud, scene);
+    const std::vector<float> cloud = body_scan_merge::readPly(cloud_path);
+    const body_scan_driver::sim::Scene scene = body_scan_driver::sim::loadScene(scene_path);
+    const auto accuracy = body_scan_merge::eval::evaluateScan(cloud, scene);
     const std::string yaml =
-        body_scan::eval::accuracyReportYaml(accuracy, cloud_path + " vs " + scene_path);
+        body_scan_merge::eval::accuracyReportYaml(accuracy, cloud_path + " vs " + scene_path);
     std::cout << yaml;
     if (!outliers_path.empty()) {
       std::vector<float> outliers;
       for (size_t k : accuracy.outlier_indices)
         outliers.insert(outliers.end(), cloud.begin() + 4 * k, cloud.begin() + 4 * k + 4);
-      body_scan::writePly(outliers_path, outliers.data(), outliers.size() / 4, 4, 3);
+      body_scan_merge::writePly(outliers_path, outliers.data(), outliers.size() / 4, 4, 3);
       std::cout << accuracy.outliers << " outliers written to " << outliers_path << "\n";
     }
     if (!report_path.empty()) {
-      body_scan::eval::writeAccuracyReport(report_path, accuracy, cloud_path + " vs " + scene_path);
+      body_scan_merge::eval::writeAccuracyReport(report_path, accuracy,
+                                                 cloud_path + " vs " + scene_path);
       std::cout << "report written to " << report_path << "\n";
     }
   } catch (const std::exception& e) {

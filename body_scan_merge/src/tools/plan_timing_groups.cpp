@@ -13,7 +13,8 @@
 #include <optional>
 #include <sstream>
 
-using namespace body_scan;
+using namespace body_scan_merge;
+using namespace body_scan_driver;
 
 namespace {
 
@@ -79,14 +80,14 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const sim::Rig rig = sim::loadRig(rig_path);
+    const body_scan_driver::sim::Rig rig = body_scan_driver::sim::loadRig(rig_path);
     std::vector<PairGeometry> pairs;
     int aligned = 0;
-    for (const sim::VirtualPairConfig& config : rig.pairs) {
+    for (const body_scan_driver::sim::VirtualPairConfig& config : rig.pairs) {
       PairGeometry pair;
       pair.pair_id = config.pair_id;
-      pair.calibration =
-          loadCalibration(calibration_dir + "/" + fileStem(config.pair_id) + suffix + ".yaml");
+      pair.calibration = body_scan_driver::loadCalibration(
+          calibration_dir + "/" + fileStem(config.pair_id) + suffix + ".yaml");
       if (pair.calibration.alignment) {
         pair.world_from_camera = pair.calibration.alignment->world_from_camera;
         ++aligned;
@@ -120,7 +121,7 @@ int main(int argc, char** argv) {
     for (const auto& [a, b] : plan.conflicts) out << YAML::Flow << std::vector<std::string>{a, b};
     out << YAML::EndSeq << YAML::EndMap;
     if (!report.empty()) {
-      writeFileAtomically(report, std::string(out.c_str()) + "\n");
+      body_scan_driver::writeFileAtomically(report, std::string(out.c_str()) + "\n");
       std::cout << "report: " << report << "\n";
     }
   } catch (const std::exception& e) {

@@ -11,7 +11,8 @@
 #include <iostream>
 #include <map>
 
-using namespace body_scan;
+using namespace body_scan_merge;
+using namespace body_scan_driver;
 
 namespace {
 int usage(const std::string& problem) {
@@ -36,8 +37,9 @@ int main(int argc, char** argv) {
   for (const char* required : {"--rig", "--scene", "--output"})
     if (!args.count(required)) return usage(std::string("missing ") + required);
   try {
-    const sim::Rig rig = sim::loadRig(args["--rig"]);
-    auto scene = std::make_shared<const sim::Scene>(sim::loadScene(args["--scene"]));
+    const body_scan_driver::sim::Rig rig = body_scan_driver::sim::loadRig(args["--rig"]);
+    auto scene = std::make_shared<const body_scan_driver::sim::Scene>(
+        body_scan_driver::sim::loadScene(args["--scene"]));
     const std::string& g = args["--groups"];
     const TimingGroupList groups = g == "planned" ? plannedTimingGroups(rig)
                                    : g == "all"   ? allPairsTogether(rig)

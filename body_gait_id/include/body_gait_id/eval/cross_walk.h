@@ -17,7 +17,7 @@ namespace body_gait_id::eval {
 // The 4 fitted representative poses (s1..s4, thesis 5.3 order) of one walk of one person.
 struct WalkModels {
   std::string person, walk;
-  body_gait::RepresentativePoses poses;
+  body_gait_model::RepresentativePoses poses;
 };
 
 struct WalkIdentification {

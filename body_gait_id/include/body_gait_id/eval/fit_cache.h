@@ -12,8 +12,8 @@ namespace body_gait_id::eval {
 
 // One scan's fit: the model and what the evaluation reports about it.
 struct CachedFit {
-  body_gait::BodyModel model;
-  bool low_quality = false;  // the fitter flagged it (body_gait::FitQuality)
+  body_gait_model::BodyModel model;
+  bool low_quality = false;  // the fitter flagged it (body_gait_model::FitQuality)
   int points = 0;            // points of the scanned cloud
 };
 
@@ -24,17 +24,17 @@ std::string serializeFit(const CachedFit& fit);
 // Key of everything a scan depends on: the spec's numbers (body, pose, materials, position; as
 // raw bytes, so a field added to them changes the key) and the scanner's settings (a string the
 // caller makes, e.g. "sampler columns=320 noise=0.002"). 16 hex digits.
-std::string scanKey(const body_scan::sim::HumanBodySpec& spec, const std::string& scanner);
+std::string scanKey(const body_scan_driver::sim::HumanBodySpec& spec, const std::string& scanner);
 
 class FitCache {
  public:
   // An empty folder disables the cache (load finds nothing, store does nothing). Creates the
-  // folder; throws body_scan::FileWriteError naming it when it cannot be created or written,
+  // folder; throws body_scan_driver::FileWriteError naming it when it cannot be created or written,
   // so a run fails before its scans, not after.
   explicit FitCache(std::string folder = {});
   // nullopt when absent, of another version, truncated or damaged (the caller fits again).
   std::optional<CachedFit> load(const std::string& key) const;
-  // Written atomically; throws body_scan::FileWriteError naming the file and the fix.
+  // Written atomically; throws body_scan_driver::FileWriteError naming the file and the fix.
   void store(const std::string& key, const CachedFit& fit) const;
   std::string pathOf(const std::string& key) const;
 

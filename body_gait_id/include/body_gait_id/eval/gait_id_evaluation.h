@@ -1,5 +1,5 @@
 // End-to-end evaluation of gait recognition on simulated people (thesis 5.8.3-5.8.4 and beyond):
-// scanner simulation -> body fit (body_gait::fitBody) -> gait cycles (eqs 5.11-5.13) ->
+// scanner simulation -> body fit (body_gait_model::fitBody) -> gait cycles (eqs 5.11-5.13) ->
 // features (5.7) -> nearest-neighbour identification (eq 5.16) -> metrics. Reads simulator
 // truth only to know who and which frame a probe is; the fitter and matcher never see it.
 #pragma once
@@ -21,7 +21,8 @@ namespace body_gait_id::eval {
 // 5.3) of walk `trial` (0, 1, ...), facing `heading` (rad about world z).
 struct PersonSource {
   std::vector<std::string> names;
-  std::function<body_scan::sim::HumanBodySpec(int person, int pose, int trial, double heading)>
+  std::function<body_scan_driver::sim::HumanBodySpec(int person, int pose, int trial,
+                                                     double heading)>
       spec;
 };
 
@@ -34,8 +35,9 @@ PersonSource bvhPeople(const std::vector<std::string>& items, const std::string&
                        int trials, std::vector<std::string>* picked = nullptr);
 
 enum class ScannerKind {
-  kFull,     // the 12-pair scanner simulation (body_gait::eval::scanBodyWithFullScanner, ~4 s)
-  kSampler,  // rays cast into the scene from the same viewpoints (body_gait::eval::sampleBody)
+  kFull,  // the 12-pair scanner simulation (body_gait_model::eval::scanBodyWithFullScanner, ~4 s)
+  kSampler,  // rays cast into the scene from the same viewpoints
+             // (body_gait_model::eval::sampleBody)
   // No scan and no fit: the model read off the simulator's skeleton (modelFromSkeleton). The
   // upper bound of the features on these people: what a perfect fitter would give.
   kTruth,
@@ -58,7 +60,7 @@ struct FitSummary {
 
 // The fitted representative poses s1..s4 of every walk: walks[person][trial]; nullopt when a
 // pose could not be fitted.
-using FittedWalks = std::vector<std::vector<std::optional<body_gait::RepresentativePoses>>>;
+using FittedWalks = std::vector<std::vector<std::optional<body_gait_model::RepresentativePoses>>>;
 
 // Scans and fits every person's four poses of walks 0 .. trials - 1 on options.threads threads,
 // through the cache. Throws std::runtime_error naming the file when the cache cannot be written.

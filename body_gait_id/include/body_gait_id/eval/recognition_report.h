@@ -36,7 +36,7 @@ struct RecognitionReport {
 constexpr int kMaxReportedRocPoints = 101;
 
 std::string recognitionReportYaml(const RecognitionReport& report);
-// Throws body_scan::FileWriteError naming the file and the fix.
+// Throws body_scan_driver::FileWriteError naming the file and the fix.
 void writeRecognitionReport(const std::string& path, const RecognitionReport& report);
 
 // A printed table (name, rank-1 with CI, pose error, EER, thesis figures) for the terminal.
@@ -65,7 +65,7 @@ cv::Scalar curveColour(int index);
 // CMC (rank 1..K against identification rate) and verification ROC (false accept rate, log
 // axis from 10^-3, against genuine accept rate), one curve per result.
 std::vector<PlotPanel> cmcAndRocPanels(const std::vector<NamedMetrics>& results);
-// Writes a PNG atomically; throws body_scan::FileWriteError naming the file and the fix.
+// Writes a PNG atomically; throws body_scan_driver::FileWriteError naming the file and the fix.
 void writePng(const std::string& path, const cv::Mat& image);
 
 }  // namespace body_gait_id::eval

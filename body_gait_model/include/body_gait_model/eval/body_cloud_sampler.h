@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 
 struct ScanRig {
   int poles = 3;               // evenly spaced around the subject
@@ -34,26 +34,26 @@ struct SampledBody {
   std::vector<Eigen::Vector3d> points;  // world frame
   std::vector<int> surface_of_point;    // index into the scene's surfaces (evaluation only)
   std::vector<std::string> surface_names;
-  std::vector<body_scan::sim::SkeletonJoint> skeleton;  // ground truth (evaluation only)
-  body_scan::sim::HumanBodySpec spec;
+  std::vector<body_scan_driver::sim::SkeletonJoint> skeleton;  // ground truth (evaluation only)
+  body_scan_driver::sim::HumanBodySpec spec;
 };
 
-SampledBody sampleBody(const body_scan::sim::HumanBodySpec& spec, const ScanRig& rig = {});
+SampledBody sampleBody(const body_scan_driver::sim::HumanBodySpec& spec, const ScanRig& rig = {});
 
 // The four representative poses of thesis 5.3 (index 1..4): 1 right leg and left arm forward,
 // longest stride; 2 right leg vertical, left leg behind, hands along the sides; 3 and 4 the
 // mirror images. Angles stay within Table 5.2 so a perfect fit is representable.
-body_scan::sim::BodyPose gaitPose(int index, double heading = 0.0);
+body_scan_driver::sim::BodyPose gaitPose(int index, double heading = 0.0);
 
 // count subjects of varied stature (1.55-1.95 m), girth and limb proportions, deterministic.
-std::vector<body_scan::sim::HumanBodySpec> simulatedSubjects(int count);
+std::vector<body_scan_driver::sim::HumanBodySpec> simulatedSubjects(int count);
 
 // Position of a named joint of the true skeleton; throws std::invalid_argument if absent.
 Eigen::Vector3d trueJoint(const SampledBody& body, const std::string& name);
 
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 
 // Errors of a fitted model against the simulator's true skeleton (evaluation only).
 struct FitErrors {
@@ -71,4 +71,4 @@ struct FitErrors {
 
 FitErrors compareWithTruth(const BodyModel& model, const SampledBody& body);
 
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 
 struct FullScannerOptions {
   std::string rig_file;                    // empty: the thesis rig of body_scan_driver
@@ -19,11 +19,11 @@ struct FullScannerOptions {
 
 // Throws std::invalid_argument naming an unknown missing pair, std::runtime_error naming a rig
 // file that cannot be read.
-SampledBody scanBodyWithFullScanner(const body_scan::sim::HumanBodySpec& spec,
+SampledBody scanBodyWithFullScanner(const body_scan_driver::sim::HumanBodySpec& spec,
                                     const FullScannerOptions& options = {});
 
 // The subject's heading in evaluation case `index` (0, 1, ...): within +-46 deg of the rig's
 // front (+x), where the subject of a whole-body scanner faces (two poles in front, one behind).
 double fullScannerHeading(int index);
 
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 
 // A person's own way of walking: the joint angles (radians) of the representative poses of
 // thesis 5.3 (heel strike = poses 1 and 3, mid-stance = poses 2 and 4). The stride follows from
@@ -37,7 +37,7 @@ struct SimulatedPerson {
   std::string name;
   std::string gender;  // "female" or "male"
   int age = 0;         // years; recorded for the gallery, not modelled in the gait
-  body_scan::sim::Anthropometry body;
+  body_scan_driver::sim::Anthropometry body;
   GaitStyle style;
   std::uint32_t seed = 0;  // the person's own stream: their walks are reproducible
 };
@@ -59,7 +59,7 @@ std::vector<SimulatedPerson> simulatedPeople(int count, std::uint32_t seed = 1);
 // of it by another N(0, 0.5 deg); the person stands within +-3 cm of the scanner's centre), so
 // two walks of one person differ but less than two people do. Deterministic from (person.seed,
 // trial, index). Every angle stays within Table 5.2 after modelFromSkeleton.
-body_scan::sim::HumanBodySpec walkingSubject(const SimulatedPerson& person, int index, int trial,
-                                             double heading = 0.0);
+body_scan_driver::sim::HumanBodySpec walkingSubject(const SimulatedPerson& person, int index,
+                                                    int trial, double heading = 0.0);
 
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval

@@ -8,7 +8,7 @@
 
 #include <vector>
 
-namespace body_gait::eval {
+namespace body_gait_model::eval {
 
 // The BodyModel whose joints are the skeleton's: forwardKinematics of it puts the shoulders,
 // elbows, hand tips, hips, knees, soles, the neck base and the head top on the true joints.
@@ -25,10 +25,10 @@ namespace body_gait::eval {
 // * radii from the girths (circumference / 2 pi).
 // Differences from a fit: the fitter's waist sits ~0.05 of the stature above the hips, so its
 // upper torso is shorter. Throws std::invalid_argument naming a missing joint.
-BodyModel modelFromSkeleton(const std::vector<body_scan::sim::SkeletonJoint>& skeleton,
-                            const body_scan::sim::Anthropometry& body);
+BodyModel modelFromSkeleton(const std::vector<body_scan_driver::sim::SkeletonJoint>& skeleton,
+                            const body_scan_driver::sim::Anthropometry& body);
 // The same for a posed spec (its skeleton from humanSkeleton) and for a sampled body.
-BodyModel modelFromSkeleton(const body_scan::sim::HumanBodySpec& spec);
+BodyModel modelFromSkeleton(const body_scan_driver::sim::HumanBodySpec& spec);
 BodyModel modelFromSkeleton(const SampledBody& body);
 
-}  // namespace body_gait::eval
+}  // namespace body_gait_model::eval

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace body_gait {
+namespace body_gait_model {
 
 // The finite x, y, z points of a cloud (FLOAT32 or FLOAT64 fields, any point layout). Throws
 // std::invalid_argument naming the problem when x, y or z is missing or the buffer is short.
@@ -43,4 +43,4 @@ std::vector<geometry_msgs::TransformStamped> modelTransforms(const BodyModel& mo
 // q as positions of urdfJointNames().
 sensor_msgs::JointState jointStates(const BodyModel& model, const std_msgs::Header& header);
 
-}  // namespace body_gait
+}  // namespace body_gait_model

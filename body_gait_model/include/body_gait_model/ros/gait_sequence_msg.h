@@ -9,7 +9,7 @@
 
 #include <string>
 
-namespace body_gait {
+namespace body_gait_model {
 
 // Every frame gets the sequence's header; representative_frames = kRepresentativeFrames.
 body_scan_msgs::GaitSequence toMsg(const GaitCycle& cycle, const std_msgs::Header& header,
@@ -28,4 +28,4 @@ visualization_msgs::MarkerArray gaitSequenceMarkers(const GaitCycle& cycle,
                                                     double spacing = 0.4,
                                                     const Eigen::Vector3d& offset = {0, 0, 0});
 
-}  // namespace body_gait
+}  // namespace body_gait_model

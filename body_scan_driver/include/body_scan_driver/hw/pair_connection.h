@@ -8,7 +8,7 @@
 #include <functional>
 #include <string>
 
-namespace body_scan::hw {
+namespace body_scan_driver::hw {
 
 enum class ConnectionState { kDisconnected, kConnected, kStreaming, kError };
 const char* toString(ConnectionState state);
@@ -56,4 +56,4 @@ class PairConnection {
   double retry_interval_s_ = 0, next_attempt_s_ = 0;
 };
 
-}  // namespace body_scan::hw
+}  // namespace body_scan_driver::hw

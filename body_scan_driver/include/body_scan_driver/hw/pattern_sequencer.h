@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <opencv2/core/mat.hpp>
 
-namespace body_scan::hw {
+namespace body_scan_driver::hw {
 
 // Shows full-screen images (ProjectorWindow, or a fake in tests).
 class PatternProjector {
@@ -83,4 +83,4 @@ class PatternSequencer {
 int measureDisplayLatency(PatternProjector& projector, FrameCamera& camera, int max_frames,
                           double frame_timeout_s);
 
-}  // namespace body_scan::hw
+}  // namespace body_scan_driver::hw

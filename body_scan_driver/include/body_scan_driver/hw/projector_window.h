@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-namespace body_scan::hw {
+namespace body_scan_driver::hw {
 
 class ProjectorWindow : public PatternProjector {
  public:
@@ -34,4 +34,4 @@ class ProjectorWindow : public PatternProjector {
 // attached as that screen is showing. Used by the tests and measure_projector_latency.
 cv::Mat grabScreen(const std::string& display, int screen);
 
-}  // namespace body_scan::hw
+}  // namespace body_scan_driver::hw

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::hw {
+namespace body_scan_driver::hw {
 
 struct UsbDeviceInfo {
   uint16_t vendor_id = 0, product_id = 0;
@@ -54,4 +54,4 @@ std::optional<UsbDeviceInfo> findDevice(const std::vector<UsbDeviceInfo>& device
 // devices() throws with the reason, so a driver keeps retrying instead of dying.
 std::unique_ptr<UsbBus> makeLibusbBus();
 
-}  // namespace body_scan::hw
+}  // namespace body_scan_driver::hw

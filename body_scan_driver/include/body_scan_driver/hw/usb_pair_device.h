@@ -17,7 +17,7 @@
 #include <optional>
 #include <string>
 
-namespace body_scan::hw {
+namespace body_scan_driver::hw {
 
 struct UsbPairSettings {
   std::string pair_id = "pole_a/pair_1";
@@ -86,4 +86,4 @@ class UsbPairDevice : public PairDevice {
   DeviceStatus status_;
 };
 
-}  // namespace body_scan::hw
+}  // namespace body_scan_driver::hw

@@ -11,7 +11,7 @@
 #include <memory>
 #include <string>
 
-namespace body_scan::hw {
+namespace body_scan_driver::hw {
 
 struct UvcSettings {
   std::string format = "yuyv";  // "yuyv" or "mjpeg"
@@ -56,4 +56,4 @@ class UvcCamera : public StreamingCamera {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace body_scan::hw
+}  // namespace body_scan_driver::hw

@@ -8,7 +8,7 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 
-namespace body_scan {
+namespace body_scan_driver {
 
 // Copies a CV_8UC1 (mono8) or CV_8UC3 (rgb8) image into a message.
 void toImageMessage(const cv::Mat& image, const std_msgs::Header& header, sensor_msgs::Image& msg);
@@ -22,4 +22,4 @@ body_scan_msgs::PatternSetPtr toPatternSet(const PatternCapture& capture,
 // endian, data sized for width x height points (contents left to the caller).
 void layoutFloatCloud(sensor_msgs::PointCloud2& cloud, uint32_t width, uint32_t height, bool rgb);
 
-}  // namespace body_scan
+}  // namespace body_scan_driver

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 enum class BvhChannel { kXposition, kYposition, kZposition, kXrotation, kYrotation, kZrotation };
 
@@ -65,4 +65,4 @@ BvhMotion loadBvh(const std::string& path);
 // e.g. "Zrotation Yrotation Xrotation" -> Rz * Ry * Rx). Throws std::out_of_range on a bad frame.
 BvhPose poseBvhFrame(const BvhMotion& motion, int frame);
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

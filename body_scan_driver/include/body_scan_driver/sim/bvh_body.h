@@ -14,7 +14,7 @@ namespace YAML {
 class Node;
 }
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 // How one naming scheme's BVH skeleton maps onto the simulator's body.
 struct BvhJointMap {
@@ -98,4 +98,4 @@ void moveBody(HumanBodySpec& spec, double heading, const Eigen::Vector3d& positi
 HumanBodySpec bvhHumanFromYaml(const YAML::Node& object, const std::string& where,
                                const std::string& base_dir);
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

@@ -8,7 +8,7 @@
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 class CalibrationCylinder : public Cylinder {
  public:
@@ -33,4 +33,4 @@ class CalibrationCylinder : public Cylinder {
   std::vector<cv::Mat1b> markers_;  // 6x6 cells (with the black border), 255 = white
 };
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

@@ -7,7 +7,7 @@
 
 #include <string>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 // Fraction of the lit pixels on surfaces whose name starts with surface_prefix (e.g. the
 // person's "person/") that decode (StripeDecoder, default parameters) more than one stripe
@@ -16,4 +16,4 @@ double wrongStripeFraction(const RenderedPatternSet& set, const Scene& scene,
                            const PatternLayout& layout,
                            const std::string& surface_prefix = "person/");
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

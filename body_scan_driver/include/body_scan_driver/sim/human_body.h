@@ -14,7 +14,7 @@ namespace YAML {
 class Node;
 }
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 // Body dimensions in metres. fromStature() fills every field from standard segment-length
 // ratios of stature (Drillis & Contini) and typical girths; any field may then be overridden.
@@ -143,4 +143,4 @@ HumanBodySpec humanBodyFromYaml(const YAML::Node& node);
 // humanBodyFromYaml to the same spec: how tools hand a generated person to a scene file.
 YAML::Node humanBodyToYaml(const HumanBodySpec& spec);
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 struct Rig {
   std::string name;
@@ -23,4 +23,4 @@ struct Rig {
 // Throws std::runtime_error naming the file, the pole or pair and the bad key.
 Rig loadRig(const std::string& path);
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

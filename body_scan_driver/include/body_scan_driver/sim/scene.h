@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 struct Ray {
   Eigen::Vector3d origin;
@@ -174,4 +174,4 @@ Scene loadScene(const std::string& path);
 // The same from the text of a scene file (e.g. received by the driver's ~set_scene service).
 Scene parseScene(const std::string& yaml_text);
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::sim {
+namespace body_scan_driver::sim {
 
 // A laser line generator whose fan is swept by a rotating mirror (the thesis's projector,
 // sec. 4.2.1). The mirror face is offset from its rotation axis, so the point where the laser
@@ -129,4 +129,4 @@ class VirtualPair {
   std::vector<float> noise_;                       // unit Gaussian samples
 };
 
-}  // namespace body_scan::sim
+}  // namespace body_scan_driver::sim

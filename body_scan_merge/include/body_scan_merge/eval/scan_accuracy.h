@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan::eval {
+namespace body_scan_merge::eval {
 
 // Body regions of the report. Soles are excluded from coverage (no pair looks up at them).
 enum class Region {
@@ -34,7 +34,7 @@ struct SurfaceSample {
 // Area-weighted samples (about one per spacing^2) of the outer skin of the body named
 // `body_name` (its surfaces are "<body_name>/..."): points inside another of its surfaces are
 // dropped. Regions from the true skeleton (definitions in scan_accuracy.cpp).
-std::vector<SurfaceSample> sampleBodySurface(const sim::Scene& scene,
+std::vector<SurfaceSample> sampleBodySurface(const body_scan_driver::sim::Scene& scene,
                                              const std::string& body_name = "person",
                                              double spacing = 0.002,
                                              std::vector<std::string>* segments = nullptr);
@@ -66,7 +66,8 @@ struct ScanAccuracy {
 
 // cloud: world points, 4 floats each (x y z rgb) as the merge writes them. The floor is the
 // plane z = 0 (DESIGN.md section 3) when the scene has one.
-ScanAccuracy evaluateScan(const std::vector<float>& cloud, const sim::Scene& scene,
+ScanAccuracy evaluateScan(const std::vector<float>& cloud,
+                          const body_scan_driver::sim::Scene& scene,
                           const AccuracyOptions& options = {},
                           const std::string& body_name = "person");
 
@@ -75,4 +76,4 @@ void writeAccuracyReport(const std::string& path, const ScanAccuracy& accuracy,
                          const std::string& description);
 std::string accuracyReportYaml(const ScanAccuracy& accuracy, const std::string& description);
 
-}  // namespace body_scan::eval
+}  // namespace body_scan_merge::eval
