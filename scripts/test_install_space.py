@@ -130,12 +130,16 @@ def run_full_scanner(env, log_dir, port):
         echo = subprocess.Popen(["rostopic", "echo", "-n", "1", "--noarr", "/body_scan/cloud"],
                                 env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                 text=True)
-        subscribed = time.time() + 10.0
-        while time.time() < subscribed:
+        # Capture only once the master lists the subscriber, so the cloud cannot be missed.
+        deadline = time.time() + 30.0
+        while True:
             info = subprocess.run(["rostopic", "info", "/body_scan/cloud"], env=env,
                                   capture_output=True, text=True).stdout
             if "rostopic" in info.split("Subscribers:")[-1]:
                 break
+            if time.time() > deadline:
+                raise Failed("rostopic echo /body_scan/cloud did not subscribe within 30 s: %s"
+                             % info.strip())
             time.sleep(0.2)
         asked = time.time()
         call = subprocess.run(["rosservice", "call", "/body_scan/capture", "0"], env=env,
