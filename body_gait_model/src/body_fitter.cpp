@@ -179,7 +179,7 @@ LimbFit fitLimb(std::vector<Eigen::Vector3d> points, const std::vector<Eigen::Ve
     // and mixed with the buttocks' surface for a line of its own, and a line from the hip (inside
     // the pelvis, estimated) turns the hip's error into a ~4x larger error along the shank:
     // measured on 10 subjects x 4 poses, both bend estimates put the knee 38-45 mm off, the
-    // proportion 21-22 mm (evaluate_body_fit --direct 1).
+    // proportion 21-22 mm (evaluate_body_fit --direct).
     by_proportion = onLine(limb.lower, proportion_plane);
   } else {
     // Arms: where the two lines meet, if that lies within the search window.

@@ -34,6 +34,30 @@ inline CLI::Validator atLeast(double low) {
 }
 inline CLI::Validator positive() { return inRange(0, std::numeric_limits<double>::max(), true); }
 
+// An option whose value is one of the names in `choices` (help and errors list them): stores the
+// value paired with the name given; the default shown is the name of `value`'s initial value.
+template <typename T>
+CLI::Option* addChoice(CLI::App& app, const std::string& name, T& value,
+                       const std::vector<std::pair<std::string, T>>& choices,
+                       const std::string& description) {
+  std::vector<std::string> names;
+  std::string current;
+  for (const auto& [choice, choice_value] : choices) {
+    names.push_back(choice);
+    if (choice_value == value && current.empty()) current = choice;
+  }
+  CLI::Option* option = app.add_option_function<std::string>(
+      name,
+      [&value, choices](const std::string& text) {
+        for (const auto& [choice, choice_value] : choices)
+          if (choice == text) value = choice_value;
+      },
+      description);
+  option->check(CLI::IsMember(names));
+  if (!current.empty()) option->default_str(current);
+  return option;
+}
+
 // Parses argc/argv into `app`. Returns the exit status when the tool should stop: 0 after
 // --help, 2 after a usage error (printed with the hint to run --help); nullopt to go on.
 // A value given to a flag (`--shape 1`) is reported as such: flags take no value.
