@@ -40,6 +40,64 @@ std::vector<fs::path> listImages(const std::string& folder) {
   return images;
 }
 
+// The board's corners in every image where it is found (progress line per image).
+struct DetectedViews {
+  std::vector<std::vector<Eigen::Vector2d>> views;
+  std::vector<std::string> view_names, not_found;
+  int width = 0, height = 0;
+};
+
+DetectedViews detectBoards(const std::vector<fs::path>& files, const Checkerboard& board) {
+  DetectedViews detected;
+  auto& [views, view_names, not_found, width, height] = detected;
+  for (size_t i = 0; i < files.size(); ++i) {
+    const std::string name = files[i].filename().string();
+    std::printf("[%zu/%zu] %s: ", i + 1, files.size(), name.c_str());
+    const cv::Mat image = cv::imread(files[i].string(), cv::IMREAD_GRAYSCALE);
+    if (image.empty()) {
+      std::printf("cannot be read, skipped\n");
+      not_found.push_back(name + " (unreadable)");
+      continue;
+    }
+    if (width == 0) width = image.cols, height = image.rows;
+    if (image.cols != width || image.rows != height) {
+      std::printf("%dx%d differs from the first image's %dx%d, skipped\n", image.cols, image.rows,
+                  width, height);
+      not_found.push_back(name + " (different size)");
+      continue;
+    }
+    std::vector<Eigen::Vector2d> corners;
+    if (!detectCheckerboardCorners(image, board, corners)) {
+      std::printf("board NOT found\n");
+      not_found.push_back(name);
+      continue;
+    }
+    std::printf("board found (%zu corners)\n", corners.size());
+    views.push_back(corners);
+    view_names.push_back(name);
+  }
+  return detected;
+}
+
+// The parameters with their standard deviations, and the reprojection RMS per view.
+void printCalibration(const CameraCalibrationResult& r, const std::vector<std::string>& view_names,
+                      bool estimate_skew, const std::string& output) {
+  const body_scan_driver::PinholeCamera& c = r.camera;
+  std::printf("alpha (fx) %10.3f +- %.3f px\n", c.alpha, r.std_devs[0]);
+  std::printf("beta  (fy) %10.3f +- %.3f px\n", c.beta, r.std_devs[1]);
+  std::printf("gamma      %10.4f +- %.4f px%s\n", c.gamma, r.std_devs[2],
+              estimate_skew ? "" : " (held at 0)");
+  std::printf("u0    (cx) %10.3f +- %.3f px\n", c.u0, r.std_devs[3]);
+  std::printf("v0    (cy) %10.3f +- %.3f px\n", c.v0, r.std_devs[4]);
+  std::printf("k1         %10.5f +- %.5f\n", c.k1, r.std_devs[5]);
+  std::printf("k2         %10.5f +- %.5f\n", c.k2, r.std_devs[6]);
+  std::printf("reprojection RMS %.4f px over %zu views (%d iterations)\n", r.rms_px,
+              view_names.size(), r.iterations);
+  for (size_t i = 0; i < view_names.size(); ++i)
+    std::printf("  %-24s rms %.4f px\n", view_names[i].c_str(), r.per_view_rms_px[i]);
+  std::printf("wrote %s\n", output.c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -90,36 +148,9 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  std::vector<std::vector<Eigen::Vector2d>> views;
-  std::vector<std::string> view_names, not_found;
-  int width = 0, height = 0;
   const Checkerboard& board = arguments.board;
-  for (size_t i = 0; i < files.size(); ++i) {
-    const std::string name = files[i].filename().string();
-    std::printf("[%zu/%zu] %s: ", i + 1, files.size(), name.c_str());
-    const cv::Mat image = cv::imread(files[i].string(), cv::IMREAD_GRAYSCALE);
-    if (image.empty()) {
-      std::printf("cannot be read, skipped\n");
-      not_found.push_back(name + " (unreadable)");
-      continue;
-    }
-    if (width == 0) width = image.cols, height = image.rows;
-    if (image.cols != width || image.rows != height) {
-      std::printf("%dx%d differs from the first image's %dx%d, skipped\n", image.cols, image.rows,
-                  width, height);
-      not_found.push_back(name + " (different size)");
-      continue;
-    }
-    std::vector<Eigen::Vector2d> corners;
-    if (!detectCheckerboardCorners(image, board, corners)) {
-      std::printf("board NOT found\n");
-      not_found.push_back(name);
-      continue;
-    }
-    std::printf("board found (%zu corners)\n", corners.size());
-    views.push_back(corners);
-    view_names.push_back(name);
-  }
+  const DetectedViews detected = detectBoards(files, board);
+  const auto& [views, view_names, not_found, width, height] = detected;
   std::fflush(stdout);
   if (!not_found.empty()) {
     std::cerr << "calibrate_camera: board of " << board.inner_cols << "x" << board.inner_rows
@@ -151,20 +182,6 @@ int main(int argc, char** argv) {
     std::cerr << "calibrate_camera: " << e.what() << "\n";
     return 1;
   }
-  const CameraCalibrationResult& r = report.result;
-  const body_scan_driver::PinholeCamera& c = r.camera;
-  std::printf("alpha (fx) %10.3f +- %.3f px\n", c.alpha, r.std_devs[0]);
-  std::printf("beta  (fy) %10.3f +- %.3f px\n", c.beta, r.std_devs[1]);
-  std::printf("gamma      %10.4f +- %.4f px%s\n", c.gamma, r.std_devs[2],
-              arguments.estimate_skew ? "" : " (held at 0)");
-  std::printf("u0    (cx) %10.3f +- %.3f px\n", c.u0, r.std_devs[3]);
-  std::printf("v0    (cy) %10.3f +- %.3f px\n", c.v0, r.std_devs[4]);
-  std::printf("k1         %10.5f +- %.5f\n", c.k1, r.std_devs[5]);
-  std::printf("k2         %10.5f +- %.5f\n", c.k2, r.std_devs[6]);
-  std::printf("reprojection RMS %.4f px over %zu views (%d iterations)\n", r.rms_px, views.size(),
-              r.iterations);
-  for (size_t i = 0; i < views.size(); ++i)
-    std::printf("  %-24s rms %.4f px\n", view_names[i].c_str(), r.per_view_rms_px[i]);
-  std::printf("wrote %s\n", arguments.output.c_str());
+  printCalibration(report.result, view_names, arguments.estimate_skew, arguments.output);
   return 0;
 }
