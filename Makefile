@@ -47,6 +47,7 @@ CMAKE_BUILD_TYPE ?= Release
 #       (and `rostopic echo /diagnostics`), run-time camera settings
 #   libpcl-dev: the Merge nodelet's voxel grid and statistical outlier removal (PCL common and
 #       filters only; Debian ships PCL's headers in this one package)
+#   libcli11-dev: the command-line tools' arguments (CLI11, header-only)
 #   libgtest-dev, libbenchmark-dev: unit tests (catkin_add_gtest) and Google Benchmark
 #   xvfb, xauth: headless X for anything that needs a display; imagemagick: demo images
 DEB_PACKAGES := \
@@ -58,7 +59,7 @@ DEB_PACKAGES := \
 	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libceres-dev \
 	libusb-1.0-0-dev libuvc-dev libx11-dev libdiagnostic-updater-dev \
 	libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure python3-diagnostic-msgs \
-	libpcl-dev libgtest-dev libbenchmark-dev \
+	libpcl-dev libcli11-dev libgtest-dev libbenchmark-dev \
 	xvfb xauth imagemagick opencv-doc
 
 # Only `make format` needs these.
