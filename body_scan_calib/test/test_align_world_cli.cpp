@@ -3,6 +3,7 @@
 // message naming the fix.
 #include <body_scan_driver/calibration_file.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cstdlib>
@@ -16,7 +17,8 @@ namespace {
 
 // Runs align_world with `arguments`; returns its exit status and its stderr.
 int runAlignWorld(const std::string& arguments, std::string* errors = nullptr) {
-  const std::string error_file = testing::TempDir() + "/align_world_stderr.txt";
+  const std::string error_file =
+      testing::TempDir() + "/align_world_stderr_" + std::to_string(::getpid()) + ".txt";
   const int status = std::system(
       (std::string(ALIGN_WORLD_EXECUTABLE) + " " + arguments + " > /dev/null 2> " + error_file)
           .c_str());
@@ -30,7 +32,8 @@ int runAlignWorld(const std::string& arguments, std::string* errors = nullptr) {
 }
 
 TEST(AlignWorldCli, LiveThenOfflineFromTheSavedImages) {
-  const fs::path root = fs::path(testing::TempDir()) / "align_world_cli";
+  const fs::path root =
+      fs::path(testing::TempDir()) / ("align_world_cli_" + std::to_string(::getpid()));
   fs::remove_all(root);
   const std::string live_out = (root / "live").string(), images = (root / "images").string();
   ASSERT_EQ(runAlignWorld("--calibration-out " + live_out + " --save-images " + images +

@@ -10,6 +10,7 @@
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <cstdio>
@@ -67,7 +68,8 @@ TEST(WorldAlignmentModel, CalibrationFileKeepsTheAlignment) {
   body_scan_driver::PairCalibration calibration;
   calibration.pair_id = "pole_a/pair_1";
   calibration.projector.planes = {{0, 1, 0.1, 0.3}, {0, 1, 0.2, 0.3}};
-  const std::string path = testing::TempDir() + "/alignment_round_trip.yaml";
+  const std::string path =
+      testing::TempDir() + "/alignment_round_trip_" + std::to_string(::getpid()) + ".yaml";
   saveCalibration(path, calibration);
   EXPECT_FALSE(loadCalibration(path).alignment.has_value());
 

@@ -3,6 +3,7 @@
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -17,7 +18,8 @@ namespace {
 const std::string kConfigDir = BODY_SCAN_DRIVER_CONFIG_DIR;
 
 std::string writeRig(const std::string& text) {
-  const std::string path = std::filesystem::temp_directory_path() / "body_scan_test_rig.yaml";
+  const std::string path = std::filesystem::temp_directory_path() /
+                           ("body_scan_test_rig_" + std::to_string(::getpid()) + ".yaml");
   std::ofstream(path) << text;
   return path;
 }
@@ -95,6 +97,19 @@ TEST(Rig, PairDefaultsApplyToEveryPair) {
   EXPECT_EQ(rig.pairs[0].sensor.noise_sigma, 0);
   EXPECT_EQ(rig.pairs[0].sensor.seed, 7u);
   EXPECT_NEAR(rig.pairs[0].world_from_camera.translation().z(), 1.2, 1e-12);
+}
+
+// A pair's device map names real hardware (the usb backend's); the simulator reads past it.
+TEST(Rig, APairsDeviceMapIsAcceptedAndLeavesTheSimulatedPairAsItIs) {
+  const std::string pair = "{name: p, height: 1.2, seed: 7";
+  const sim::Rig plain =
+      sim::loadRig(writeRig("poles: [{name: a, position: [1, 0], pairs: [" + pair + "}]}]"));
+  const sim::Rig with_device =
+      sim::loadRig(writeRig("poles: [{name: a, position: [1, 0], pairs: [" + pair +
+                            ", device: {camera_id: \"046d:0825\", camera_serial: A1}}]}]"));
+  ASSERT_EQ(with_device.pairs.size(), 1u);
+  EXPECT_TRUE(with_device.pairs[0].world_from_camera.isApprox(plain.pairs[0].world_from_camera));
+  EXPECT_EQ(with_device.pairs[0].sensor.seed, plain.pairs[0].sensor.seed);
 }
 
 // All 12 pairs projecting at once: other pairs' stripes corrupt a pair's decoding wherever

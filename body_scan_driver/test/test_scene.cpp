@@ -1,5 +1,6 @@
 #include <body_scan_driver/sim/scene.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -73,7 +74,8 @@ TEST(Scene, NearestSurfaceWinsAndShadowsAreFound) {
 }
 
 TEST(Scene, LoaderNamesTheBadObjectAndKey) {
-  const auto path = std::filesystem::temp_directory_path() / "body_scan_test_scene.yaml";
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("body_scan_test_scene_" + std::to_string(::getpid()) + ".yaml");
   auto message = [&](const std::string& yaml) {
     std::ofstream(path) << yaml;
     try {

@@ -1,5 +1,6 @@
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -100,7 +101,8 @@ TEST(VirtualPair, RenderingIsDeterministicPerSeedAndScan) {
 }
 
 TEST(VirtualPair, PairFileTyposAreErrorsAndTheDefaultFileLoads) {
-  const auto path = std::filesystem::temp_directory_path() / "body_scan_test_pair.yaml";
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("body_scan_test_pair_" + std::to_string(::getpid()) + ".yaml");
   std::ofstream(path) << "sensor: {noise_sgima: 1.0}\n";
   try {
     sim::loadVirtualPairConfig(path.string());

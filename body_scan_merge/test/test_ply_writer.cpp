@@ -1,5 +1,6 @@
 #include <body_scan_merge/ply_writer.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
@@ -15,7 +16,8 @@ TEST(PlyWriter, WritesFinitePointsWithColourAndAHeaderThatCountsThem) {
   std::memcpy(&rgb, &packed, sizeof rgb);
   const std::vector<float> cloud = {0.1f, 0.2f, 1.0f,  rgb,   nan,  nan,
                                     nan,  rgb,  -0.5f, 0.25f, 2.0f, rgb};
-  const std::string path = std::filesystem::temp_directory_path() / "body_scan_test_cloud.ply";
+  const std::string path = std::filesystem::temp_directory_path() /
+                           ("body_scan_test_cloud_" + std::to_string(::getpid()) + ".ply");
   ASSERT_EQ(body_scan_merge::writePly(path, cloud.data(), 3, 4, 3), 2u);
 
   std::ifstream file(path, std::ios::binary);
@@ -51,7 +53,8 @@ TEST(PcdWriter, WritesABinaryPcdWithTheFinitePointsAndTheirPackedColour) {
   const uint32_t packed = 0x10A0F0;
   std::memcpy(&rgb, &packed, sizeof rgb);
   const std::vector<float> cloud = {0.1f, 0.2f, 1.0f, rgb, nan, 0, 0, rgb, -0.5f, 0.25f, 2.0f, rgb};
-  const std::string path = std::filesystem::temp_directory_path() / "body_scan_test_cloud.pcd";
+  const std::string path = std::filesystem::temp_directory_path() /
+                           ("body_scan_test_cloud_" + std::to_string(::getpid()) + ".pcd");
   ASSERT_EQ(body_scan_merge::writePcd(path, cloud.data(), 3, 4, 3), 2u);
 
   std::ifstream file(path, std::ios::binary);

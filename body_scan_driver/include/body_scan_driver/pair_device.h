@@ -1,16 +1,13 @@
-// One projector-camera pair as the driver sees it, whatever is behind it: the simulator now,
-// USB hardware later (the velodyne driver's Input/InputSocket/InputPCAP split).
+// One projector-camera pair as the driver sees it, whatever is behind it: a real pair (usb
+// backend) or the virtual pair (sim backend, which also implements simulator_control.h); the
+// velodyne driver's Input/InputSocket/InputPCAP split.
 #pragma once
 
 #include <body_scan_driver/gray_code.h>
 #include <body_scan_driver/pair_model.h>
 
-#include <Eigen/Geometry>
 #include <cstdint>
-#include <memory>
 #include <opencv2/core/mat.hpp>
-#include <optional>
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,23 +39,8 @@ class PairDevice {
   virtual const PatternLayout& layout() const = 0;
   // The camera model to announce in camera_info (from the factory or a calibration).
   virtual PinholeCamera camera() const = 0;
-  // The calibration the device was built with, if it knows one (the simulator does).
-  virtual std::optional<PairCalibration> factoryCalibration() const { return std::nullopt; }
-  // The camera's pose in the world if the device knows it (the simulator does).
-  virtual std::optional<Eigen::Isometry3d> factoryPose() const { return std::nullopt; }
-  // Replaces the scene in front of the pair (scene file text). Only a simulated pair has a
-  // scene to replace: the others throw std::runtime_error saying so.
-  virtual void replaceScene(const std::string& /*scene_yaml*/) {
-    throw std::runtime_error(
-        "this pair captures the real world: its scene cannot be set; place the target by hand "
-        "(or use backend:=sim)");
-  }
-  // The other pairs that project at the same time as the next capture(s) (the coordinator's
-  // timing group). Real pairs ignore it: their light interferes physically. The simulator
-  // renders those pairs' light into this pair's frames; it throws std::invalid_argument for an
-  // id it does not know.
-  virtual void setActivePairs(const std::vector<std::string>& /*pair_ids*/) {}
-  // Called periodically by the driver: hardware reconnects here. Must not throw.
+  // Called periodically by whoever runs the device (the usb backend's poll timer, a test):
+  // hardware reconnects here. Must not throw.
   virtual void poll() {}
   // Thread-safe: may be called while capture() runs. Not pure, so that devices written before
   // diagnostics existed (test doubles, replay) still compile; they report no health.
@@ -70,16 +52,5 @@ class PairDevice {
     return status;
   }
 };
-
-// The virtual pair: renders the scene file seen by the pair file's camera.
-// Throws std::runtime_error naming the file and the problem.
-std::unique_ptr<PairDevice> makeSimulatedPair(const std::string& pair_file,
-                                              const std::string& scene_file);
-// One pair of a simulated rig (sim/rig.h): it knows every pair of the rig, so the light of the
-// pairs named by setActivePairs() interferes with its frames. Throws std::runtime_error naming
-// the file, or std::invalid_argument naming the pair id and the rig's ids.
-std::unique_ptr<PairDevice> makeSimulatedRigPair(const std::string& rig_file,
-                                                 const std::string& pair_id,
-                                                 const std::string& scene_file);
 
 }  // namespace body_scan_driver

@@ -1,16 +1,15 @@
 // PairDriver: captures pattern sets from one pair and publishes them (DESIGN.md section 3).
-// backend:=sim (the virtual pair) or backend:=usb (a real pair, issue 8); device health goes
-// to /diagnostics for every backend.
-#include <body_scan_driver/UsbPairSettingsConfig.h>
+// The pair comes from the backend plugin named by ~backend (pair_backends.xml: sim, the
+// virtual pair; usb, a real pair); device health goes to /diagnostics for every backend.
 #include <body_scan_driver/calibration_file.h>
-#include <body_scan_driver/hw/usb_pair_device.h>
 #include <body_scan_driver/pair_device.h>
 #include <body_scan_driver/ros/conversions.h>
+#include <body_scan_driver/ros/pair_backend.h>
+#include <body_scan_driver/simulator_control.h>
 #include <body_scan_msgs/Capture.h>
 #include <body_scan_msgs/PatternSet.h>
 #include <body_scan_msgs/SetScene.h>
 #include <diagnostic_updater/diagnostic_updater.h>
-#include <dynamic_reconfigure/server.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
@@ -22,6 +21,7 @@
 #include <atomic>
 #include <mutex>
 #include <pluginlib/class_list_macros.hpp>
+#include <pluginlib/class_loader.hpp>
 
 namespace body_scan_driver {
 
@@ -39,30 +39,8 @@ class PairDriverNodelet : public nodelet::Nodelet {
     // The device is assigned before any callback can run (services, trigger, diagnostics):
     // ROS serves callbacks as soon as they are advertised, and device_ is read without a lock.
     try {
-      if (backend == "sim") {
-        // A pair of a rig (interference from the rig's other pairs) or a single pair file.
-        const std::string rig_file = pnh.param<std::string>("rig_file", "");
-        const std::string scene_file = pnh.param<std::string>("scene_file", "");
-        device_ = rig_file.empty()
-                      ? makeSimulatedPair(pnh.param<std::string>("pair_file", ""), scene_file)
-                      : makeSimulatedRigPair(rig_file, pair_id_, scene_file);
-      } else if (backend == "usb") {
-        const hw::UsbPairSettings settings = usbSettings(pnh);
-        usb_camera_settings_ = settings.camera_settings;
-        auto usb = std::make_unique<hw::UsbPairDevice>(settings, hw::realHardware());
-        usb_device_ = usb.get();
-        device_ = std::move(usb);
-        reconfigure_server_ =
-            std::make_unique<dynamic_reconfigure::Server<body_scan_driver::UsbPairSettingsConfig>>(
-                pnh);
-        reconfigure_server_->setCallback([this](body_scan_driver::UsbPairSettingsConfig& config,
-                                                uint32_t) { onReconfigure(config); });
-        // Reconnects (DISCONNECTED/ERROR -> STREAMING) and hot-plug events happen here.
-        poll_timer_ = nh.createWallTimer(ros::WallDuration(pnh.param("poll_period", 0.1)),
-                                         [this](const ros::WallTimerEvent&) { pollDevice(); });
-      } else {
-        throw std::runtime_error("backend '" + backend + "' is unknown; use backend:=sim or usb");
-      }
+      device_ = openDevice(backend, nh, pnh);
+      simulator_ = dynamic_cast<SimulatorControl*>(device_.get());
     } catch (const std::exception& e) {
       // Stay alive so the other pairs in this manager keep working; captures report the error.
       device_error_ = e.what();
@@ -83,7 +61,11 @@ class PairDriverNodelet : public nodelet::Nodelet {
               response.success = false;
               try {
                 if (!device_) throw std::runtime_error("pair not available: " + device_error_);
-                device_->replaceScene(request.scene_yaml);
+                if (!simulator_)
+                  throw std::runtime_error(
+                      "this pair captures the real world: its scene cannot be set; place the "
+                      "target by hand (or use backend:=sim)");
+                simulator_->replaceScene(request.scene_yaml);
                 response.success = true;
                 response.message = "scene replaced";
               } catch (const std::exception& e) {
@@ -100,8 +82,9 @@ class PairDriverNodelet : public nodelet::Nodelet {
         ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
 
     if (!device_) return;  // stays alive; captures and set_scene answer with device_error_
-    publishFactoryData(pnh.param<std::string>("factory_calibration_file", ""),
-                       pnh.param("publish_factory_tf", true));
+    if (simulator_)
+      publishFactoryData(pnh.param<std::string>("factory_calibration_file", ""),
+                         pnh.param("publish_factory_tf", true));
     if (rate > 0)
       timer_ = nh.createTimer(ros::Duration(1.0 / rate), [this](const ros::TimerEvent&) {
         std::string message;
@@ -113,62 +96,30 @@ class PairDriverNodelet : public nodelet::Nodelet {
                           : "capturing on ~capture or scan_trigger");
   }
 
-  // Parameters of backend:=usb (README "Setting up a real pair"). Throws on a malformed id.
-  hw::UsbPairSettings usbSettings(ros::NodeHandle& pnh) const {
-    hw::UsbPairSettings settings;
-    settings.pair_id = pair_id_;
-    settings.camera = hw::UsbDeviceMatch::parse(pnh.param<std::string>("camera_id", ""),
-                                                pnh.param<std::string>("camera_serial", ""));
-    const std::string projector_id = pnh.param<std::string>("projector_id", "");
-    if (!projector_id.empty())
-      settings.projector_usb =
-          hw::UsbDeviceMatch::parse(projector_id, pnh.param<std::string>("projector_serial", ""));
-    settings.projector_display = pnh.param<std::string>("projector_display", ":0");
-    settings.projector_screen = pnh.param("projector_screen", -1);
-    hw::UvcSettings& camera = settings.camera_settings;
-    camera.format = pnh.param<std::string>("camera_format", camera.format);
-    camera.width = pnh.param("camera_width", camera.width);
-    camera.height = pnh.param("camera_height", camera.height);
-    camera.fps = pnh.param("camera_fps", camera.fps);
-    camera.exposure_ms = pnh.param("exposure_ms", camera.exposure_ms);
-    camera.gain = pnh.param("gain", camera.gain);
-    settings.sequencer.settle_frames = pnh.param("settle_frames", 2);
-    settings.sequencer.frame_timeout_s = pnh.param("frame_timeout", 1.0);
-    const std::string stripes = pnh.param<std::string>("stripes_along", "rows");
-    if (stripes != "rows" && stripes != "columns")
-      throw std::invalid_argument("stripes_along must be rows (vertical baseline) or columns");
-    settings.sequencer.direction =
-        stripes == "rows" ? hw::StripeDirection::kAlongRows : hw::StripeDirection::kAlongColumns;
-    settings.bits = pnh.param("bits", 8);
-    settings.inverse_frames = pnh.param("inverse_frames", true);
-    settings.calibration_file = pnh.param<std::string>("calibration_file", "");
-    settings.retry.initial_interval_s = pnh.param("retry_initial_interval", 0.5);
-    settings.retry.max_interval_s = pnh.param("retry_max_interval", 10.0);
-    return settings;
-  }
-
-  // Reconnects; logs each change of the connection state once (details on /diagnostics).
-  void pollDevice() {
-    device_->poll();
-    const DeviceStatus status = device_->status();
-    if (status.state == last_logged_state_) return;
-    last_logged_state_ = status.state;
-    if (status.level == DeviceStatus::Level::kError)
-      NODELET_ERROR("[%s] %s: %s", pair_id_.c_str(), status.state.c_str(), status.message.c_str());
-    else
-      NODELET_INFO("[%s] %s: %s", pair_id_.c_str(), status.state.c_str(), status.message.c_str());
-  }
-
-  void onReconfigure(const body_scan_driver::UsbPairSettingsConfig& config) {
-    hw::UvcSettings camera = usb_camera_settings_;
-    camera.exposure_ms = config.exposure_ms;
-    camera.gain = config.gain;
-    try {
-      usb_device_->applySettings(camera, config.settle_frames);
-      usb_camera_settings_ = camera;
-    } catch (const std::exception& e) {
-      NODELET_ERROR("[%s] settings not applied: %s", pair_id_.c_str(), e.what());
+  // The pair from the backend plugin `backend`: a short name (sim, usb) or a plugin name of
+  // pair_backends.xml. Throws naming the backends there are when it cannot be loaded.
+  std::unique_ptr<PairDevice> openDevice(const std::string& backend, ros::NodeHandle& nh,
+                                         ros::NodeHandle& pnh) {
+    backend_loader_ = std::make_unique<pluginlib::ClassLoader<PairBackend>>(
+        "body_scan_driver", "body_scan_driver::PairBackend");
+    const std::string plugin =
+        backend.find('/') == std::string::npos ? "body_scan_driver/" + backend : backend;
+    std::string available;
+    for (const std::string& name : backend_loader_->getDeclaredClasses()) {
+      const bool ours = name.rfind("body_scan_driver/", 0) == 0;
+      available += (available.empty() ? "" : ", ") + (ours ? name.substr(17) : name);
     }
+    if (!backend_loader_->isClassAvailable(plugin))
+      throw std::runtime_error("backend '" + backend + "' is unknown; available backends: " +
+                               available + " (set ~backend, e.g. backend:=usb)");
+    try {
+      backend_ = backend_loader_->createUniqueInstance(plugin);
+    } catch (const pluginlib::PluginlibException& e) {
+      throw std::runtime_error("backend '" + backend + "' (plugin " + plugin +
+                               ") cannot be loaded: " + e.what() +
+                               "; available backends: " + available);
+    }
+    return backend_->open(nh, pnh, pair_id_);
   }
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
@@ -194,25 +145,25 @@ class PairDriverNodelet : public nodelet::Nodelet {
   // The simulator knows its true geometry: write it as a calibration file and announce its
   // pose, so triangulation works before the pair is calibrated.
   void publishFactoryData(const std::string& calibration_file, bool publish_tf) {
-    if (auto calibration = device_->factoryCalibration();
-        calibration && !calibration_file.empty()) {
+    if (!calibration_file.empty()) {
       try {
-        saveCalibration(calibration_file, *calibration);
+        saveCalibration(calibration_file, simulator_->factoryCalibration());
         NODELET_INFO("[%s] factory calibration written to %s", pair_id_.c_str(),
                      calibration_file.c_str());
       } catch (const std::exception& e) {
         NODELET_ERROR("[%s] %s", pair_id_.c_str(), e.what());
       }
     }
-    if (auto pose = device_->factoryPose(); pose && publish_tf) {
+    if (publish_tf) {
+      const Eigen::Isometry3d pose = simulator_->factoryPose();
       geometry_msgs::TransformStamped transform;
       transform.header.stamp = ros::Time::now();
       transform.header.frame_id = world_frame_;
       transform.child_frame_id = frame_id_;
-      const Eigen::Quaterniond q(pose->linear());
-      transform.transform.translation.x = pose->translation().x();
-      transform.transform.translation.y = pose->translation().y();
-      transform.transform.translation.z = pose->translation().z();
+      const Eigen::Quaterniond q(pose.linear());
+      transform.transform.translation.x = pose.translation().x();
+      transform.transform.translation.y = pose.translation().y();
+      transform.transform.translation.z = pose.translation().z();
       transform.transform.rotation.x = q.x();
       transform.transform.rotation.y = q.y();
       transform.transform.rotation.z = q.z();
@@ -243,11 +194,14 @@ class PairDriverNodelet : public nodelet::Nodelet {
       message = "pair not available: " + device_error_;
       return false;
     }
-    try {
-      device_->setActivePairs(active_pairs ? *active_pairs : std::vector<std::string>{});
-    } catch (const std::exception& e) {
-      message = std::string("capture refused: ") + e.what();
-      return false;
+    // Real pairs need not be told: the other pairs' light interferes physically.
+    if (simulator_) {
+      try {
+        simulator_->setActivePairs(active_pairs ? *active_pairs : std::vector<std::string>{});
+      } catch (const std::exception& e) {
+        message = std::string("capture refused: ") + e.what();
+        return false;
+      }
     }
     last_scan_id_ = scan_id != 0 ? scan_id : last_scan_id_ + 1;
     PatternCapture capture;
@@ -270,15 +224,15 @@ class PairDriverNodelet : public nodelet::Nodelet {
     return true;
   }
 
+  // Declared before the device: the device's code lives in the backend's library, which the
+  // loader unloads when it is destroyed.
+  std::unique_ptr<pluginlib::ClassLoader<PairBackend>> backend_loader_;
+  pluginlib::UniquePtr<PairBackend> backend_;
   std::unique_ptr<PairDevice> device_;
-  hw::UsbPairDevice* usb_device_ = nullptr;  // device_ when backend:=usb
-  hw::UvcSettings usb_camera_settings_;
-  std::unique_ptr<dynamic_reconfigure::Server<body_scan_driver::UsbPairSettingsConfig>>
-      reconfigure_server_;
+  SimulatorControl* simulator_ = nullptr;  // device_ if it is a simulated pair
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
-  ros::WallTimer diagnostics_timer_, poll_timer_;
+  ros::WallTimer diagnostics_timer_;
   std::atomic<uint64_t> published_sets_{0};
-  std::string last_logged_state_;
   std::string device_error_, pair_id_, frame_id_, world_frame_;
   uint32_t last_scan_id_ = 0;
   std::mutex capture_mutex_;

@@ -73,7 +73,9 @@ Rig loadRig(const std::string& path) {
     for (const YAML::Node& pair : pairs) {
       const std::string pair_name = required<std::string>(pair, "name", pole_where + ": a pair");
       const std::string pair_where = pole_where + ", pair " + pair_name;
-      requireKnownKeys(pair, {"name", "height", "pitch_deg", "yaw_offset_deg", "seed"}, pair_where);
+      // device: the real pair's ids, read by the usb backend (hw/rig_device_ids.h).
+      requireKnownKeys(pair, {"name", "height", "pitch_deg", "yaw_offset_deg", "seed", "device"},
+                       pair_where);
       VirtualPairConfig config = defaults;
       config.pair_id = pole_name + "/" + pair_name;
       if (!ids.insert(config.pair_id).second)

@@ -1,45 +1,41 @@
-#include <body_scan_driver/pair_device.h>
 #include <body_scan_driver/sim/rig.h>
+#include <body_scan_driver/sim/simulated_pair_device.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 
 #include <algorithm>
 #include <mutex>
 
-namespace body_scan_driver {
+namespace body_scan_driver::sim {
 namespace {
 
 // A simulated pair; with a rig, also the projectors of the rig's other pairs (interference).
-class SimulatedPairDevice : public PairDevice {
+class RenderedPairDevice : public SimulatedPairDevice {
  public:
-  SimulatedPairDevice(sim::VirtualPairConfig config, std::vector<sim::VirtualPairConfig> others,
-                      std::shared_ptr<const sim::Scene> scene)
+  RenderedPairDevice(VirtualPairConfig config, std::vector<VirtualPairConfig> others,
+                     std::shared_ptr<const Scene> scene)
       : pair_(std::move(config), scene), other_configs_(std::move(others)) {
     buildOthers(scene);
   }
 
   PatternCapture capture(uint32_t scan_id) override {
-    std::vector<const sim::VirtualPair*> active;
+    std::vector<const VirtualPair*> active;
     {
       std::lock_guard<std::mutex> lock(active_mutex_);
       for (const std::string& id : active_ids_)
-        for (const sim::VirtualPair& other : others_)
+        for (const VirtualPair& other : others_)
           if (other.config().pair_id == id) active.push_back(&other);
     }
-    sim::RenderedPatternSet rendered = pair_.render(scan_id, active);
+    RenderedPatternSet rendered = pair_.render(scan_id, active);
     return {std::move(rendered.frames), std::move(rendered.texture)};
   }
   const PatternLayout& layout() const override { return pair_.layout(); }
   PinholeCamera camera() const override { return pair_.config().camera; }
-  std::optional<PairCalibration> factoryCalibration() const override {
-    return pair_.factoryCalibration();
-  }
-  std::optional<Eigen::Isometry3d> factoryPose() const override {
-    return pair_.config().world_from_camera;
-  }
+  PairCalibration factoryCalibration() const override { return pair_.factoryCalibration(); }
+  Eigen::Isometry3d factoryPose() const override { return pair_.config().world_from_camera; }
   void replaceScene(const std::string& scene_yaml) override {
     // Parse first: a bad scene leaves the current one in place.
-    auto scene = std::make_shared<sim::Scene>(sim::parseScene(scene_yaml));
-    pair_ = sim::VirtualPair(pair_.config(), scene);
+    auto scene = std::make_shared<Scene>(parseScene(scene_yaml));
+    pair_ = VirtualPair(pair_.config(), scene);
     buildOthers(scene);
   }
   void setActivePairs(const std::vector<std::string>& pair_ids) override {
@@ -72,39 +68,38 @@ class SimulatedPairDevice : public PairDevice {
   }
 
  private:
-  void buildOthers(const std::shared_ptr<const sim::Scene>& scene) {
+  void buildOthers(const std::shared_ptr<const Scene>& scene) {
     others_.clear();
-    for (const sim::VirtualPairConfig& config : other_configs_)
-      others_.push_back(sim::VirtualPair::projectorOnly(config, scene));
+    for (const VirtualPairConfig& config : other_configs_)
+      others_.push_back(VirtualPair::projectorOnly(config, scene));
   }
 
-  sim::VirtualPair pair_;
-  std::vector<sim::VirtualPairConfig> other_configs_;
-  std::vector<sim::VirtualPair> others_;  // projector-only copies of the rig's other pairs
+  VirtualPair pair_;
+  std::vector<VirtualPairConfig> other_configs_;
+  std::vector<VirtualPair> others_;  // projector-only copies of the rig's other pairs
   std::mutex active_mutex_;
   std::vector<std::string> active_ids_;
 };
 
 }  // namespace
 
-std::unique_ptr<PairDevice> makeSimulatedPair(const std::string& pair_file,
-                                              const std::string& scene_file) {
-  auto scene = std::make_shared<sim::Scene>(sim::loadScene(scene_file));
-  return std::make_unique<SimulatedPairDevice>(sim::loadVirtualPairConfig(pair_file),
-                                               std::vector<sim::VirtualPairConfig>{},
-                                               std::move(scene));
+std::unique_ptr<SimulatedPairDevice> makeSimulatedPair(const std::string& pair_file,
+                                                       const std::string& scene_file) {
+  auto scene = std::make_shared<Scene>(loadScene(scene_file));
+  return std::make_unique<RenderedPairDevice>(loadVirtualPairConfig(pair_file),
+                                              std::vector<VirtualPairConfig>{}, std::move(scene));
 }
 
-std::unique_ptr<PairDevice> makeSimulatedRigPair(const std::string& rig_file,
-                                                 const std::string& pair_id,
-                                                 const std::string& scene_file) {
-  const sim::Rig rig = sim::loadRig(rig_file);
-  sim::VirtualPairConfig own = rig.pair(pair_id);
-  std::vector<sim::VirtualPairConfig> others;
-  for (const sim::VirtualPairConfig& config : rig.pairs)
+std::unique_ptr<SimulatedPairDevice> makeSimulatedRigPair(const std::string& rig_file,
+                                                          const std::string& pair_id,
+                                                          const std::string& scene_file) {
+  const Rig rig = loadRig(rig_file);
+  VirtualPairConfig own = rig.pair(pair_id);
+  std::vector<VirtualPairConfig> others;
+  for (const VirtualPairConfig& config : rig.pairs)
     if (config.pair_id != pair_id) others.push_back(config);
-  auto scene = std::make_shared<sim::Scene>(sim::loadScene(scene_file));
-  return std::make_unique<SimulatedPairDevice>(std::move(own), std::move(others), std::move(scene));
+  auto scene = std::make_shared<Scene>(loadScene(scene_file));
+  return std::make_unique<RenderedPairDevice>(std::move(own), std::move(others), std::move(scene));
 }
 
-}  // namespace body_scan_driver
+}  // namespace body_scan_driver::sim

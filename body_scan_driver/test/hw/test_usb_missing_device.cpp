@@ -1,7 +1,7 @@
 // Watches /diagnostics and the simulated pair's pattern sets for a few seconds (see
 // usb_missing_device.test): the usb pair without its camera reports ERROR naming the device and
 // list_devices, keeps retrying with growing intervals, and the simulated pair in the same
-// manager keeps publishing.
+// manager keeps publishing; a pair with an unknown backend reports ERROR naming the backends.
 #include <body_scan_msgs/PatternSet.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
@@ -38,7 +38,9 @@ TEST(UsbMissingDevice, ErrorDiagnosticsRetriesAndTheSimPairKeepsWorking) {
   const double duration = pnh.param("duration", 6.0);
 
   std::mutex mutex;
-  std::vector<Observed> usb_statuses, sim_statuses;
+  const std::string unknown_backend_pair =
+      pnh.param<std::string>("unknown_backend_pair", "pole_c/pair_1");
+  std::vector<Observed> usb_statuses, sim_statuses, unknown_backend_statuses;
   std::vector<ros::WallTime> sim_sets;
   const auto diagnostics_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
       "/diagnostics", 50, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& array) {
@@ -48,6 +50,8 @@ TEST(UsbMissingDevice, ErrorDiagnosticsRetriesAndTheSimPairKeepsWorking) {
             usb_statuses.push_back({ros::WallTime::now(), status});
           else if (contains(status.name, "pair pole_a/pair_1"))
             sim_statuses.push_back({ros::WallTime::now(), status});
+          else if (contains(status.name, "pair " + unknown_backend_pair))
+            unknown_backend_statuses.push_back({ros::WallTime::now(), status});
         }
       });
   const auto sets_sub = nh.subscribe<body_scan_msgs::PatternSet>(
@@ -124,6 +128,14 @@ TEST(UsbMissingDevice, ErrorDiagnosticsRetriesAndTheSimPairKeepsWorking) {
   EXPECT_LT(longest_gap, 3.0);
   ASSERT_FALSE(sim_statuses.empty());
   EXPECT_EQ(sim_statuses.back().status.level, diagnostic_msgs::DiagnosticStatus::OK);
+
+  // The pair whose backend does not exist: ERROR naming it and the backends there are.
+  ASSERT_FALSE(unknown_backend_statuses.empty()) << "no status for " << unknown_backend_pair;
+  const auto& unknown = unknown_backend_statuses.back().status;
+  std::cout << "[ figure ] unknown backend: \"" << unknown.message << "\"\n";
+  EXPECT_EQ(unknown.level, diagnostic_msgs::DiagnosticStatus::ERROR);
+  EXPECT_TRUE(contains(unknown.message, "backend 'nosuch' is unknown")) << unknown.message;
+  EXPECT_TRUE(contains(unknown.message, "available backends: sim, usb")) << unknown.message;
 }
 
 int main(int argc, char** argv) {
