@@ -8,7 +8,8 @@
 # cmake gets -DPYTHON_EXECUTABLE=/usr/bin/python3.
 #
 #   make deps    install missing Debian packages (no-op when all are installed)
-#   make build   configure + build all packages into build/
+#   make build   configure + build all packages into build/ (devel space build/devel, install
+#                space build/install)
 #   make test    build + run every gtest/rostest; last line: "N passed, N failed[, N skipped]"
 #   make demo    build + scripts/demo.sh
 #   make bench   build + run every build/devel/lib/*/bench_* (JSON into build/bench/);
@@ -28,38 +29,24 @@ JOBS      ?= 2
 BENCH_ARGS ?=
 CMAKE_BUILD_TYPE ?= Release
 
-# Debian packages the whole suite needs to build, test, run the demo and the benchmarks:
-#   catkin ... ros-core, rosbash, ros-message-generation: catkin, roscpp, message generation,
-#       nodelets, pluginlib, rostest/roslaunch (the test harness) and rosrun/roscd
-#   rviz: the demo's visualisation (launch/, rviz/)
-#   libcv-bridge-dev ... python3-rosbag: image, tf2 and bag APIs used by the nodes and demo;
-#       python3-sensor-msgs, python3-visualization-msgs: the scan report marker (rviz) and the
-#       record/replay rostest, both in Python;
-#       libcamera-calibration-parsers-dev: the test that ROS reads our calibration files
-#   libopencv-dev, libopencv-contrib-dev: OpenCV (contrib = structured_light, the reference
-#       decoder of the benchmarks); opencv-doc: its sample images
-#   libeigen3-dev, libyaml-cpp-dev: maths and calibration files; libceres-dev: the
-#       maximum-likelihood refinements of calibration (body_scan_calib)
-#   libusb-1.0-0-dev, libuvc-dev, libx11-dev: the hardware backend (USB enumeration and
-#       hot-plug, UVC cameras, the projector's full-screen pattern window);
-#       libdiagnostic-updater-dev, libdynamic-reconfigure-config-init-mutex-dev,
-#       python3-dynamic-reconfigure, python3-diagnostic-msgs: device health on /diagnostics
-#       (and `rostopic echo /diagnostics`), run-time camera settings
-#   libpcl-dev: the Merge nodelet's voxel grid and statistical outlier removal (PCL common and
-#       filters only; Debian ships PCL's headers in this one package)
-#   libgtest-dev, libbenchmark-dev: unit tests (catkin_add_gtest) and Google Benchmark
-#   xvfb, xauth: headless X for anything that needs a display; imagemagick: demo images
+# Debian packages the whole suite needs to build, test, run the demo and the benchmarks. They are
+# the Debian names of the packages' package.xml keys (scripts/check_deps.py, run by `make test`,
+# checks that both lists agree), plus a few that no package.xml covers:
+#   ros-base-dev, ros-core, rosbash: the ROS base set a ROS user has, roscore/rostopic/
+#       rosservice/rosrun (scripts/demo.sh, the README's commands)
+#   opencv-doc: OpenCV's sample chessboard images (a calibration test)
 DEB_PACKAGES := \
-	catkin ros-base-dev ros-message-generation libnodeletlib-dev libnodeletlib-tools \
-	pluginlib-dev librostest-dev python3-rostest python3-roslaunch ros-core rosbash rviz \
-	libcv-bridge-dev libimage-transport-dev libsensor-msgs-dev libtf2-ros-dev \
-	libcamera-calibration-parsers-dev \
-	librosbag-dev python3-rosbag python3-sensor-msgs python3-visualization-msgs \
-	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libceres-dev \
-	libusb-1.0-0-dev libuvc-dev libx11-dev libdiagnostic-updater-dev \
-	libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure python3-diagnostic-msgs \
-	libpcl-dev libgtest-dev libbenchmark-dev \
-	xvfb xauth imagemagick opencv-doc
+	catkin pkg-config ros-base-dev ros-core rosbash ros-message-generation ros-message-runtime \
+	libroscpp-dev libroslib-dev python3-rospy python3-roslaunch libnodeletlib-dev \
+	libnodeletlib-tools pluginlib-dev librostest-dev python3-rostest rviz \
+	libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev python3-sensor-msgs \
+	libvisualization-msgs-dev python3-visualization-msgs libdiagnostic-msgs-dev \
+	python3-diagnostic-msgs libtf2-ros-dev libcamera-calibration-parsers-dev librosbag-dev \
+	python3-rosbag libdiagnostic-updater-dev libdynamic-reconfigure-config-init-mutex-dev \
+	python3-dynamic-reconfigure \
+	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libceres-dev libpcl-dev \
+	libsqlite3-dev libcli11-dev libusb-1.0-0-dev libuvc-dev libx11-dev \
+	libgtest-dev libbenchmark-dev libtinyxml2-dev xvfb opencv-doc
 
 # Only `make format` needs these.
 FORMAT_PACKAGES := clang-format
@@ -90,7 +77,8 @@ endef
 deps:
 	$(call install_missing,$(DEB_PACKAGES))
 
-# build: configure the catkin workspace with cmake into build/ and build everything.
+# build: configure the catkin workspace with cmake into build/ and build everything. The
+# install space is build/install (`cmake --install build`; the install-space test does it).
 # build/CATKIN_IGNORE keeps catkin from looking for packages inside build/.
 # The devel space's Python folder is made before configuring: catkin caches the test
 # environment (catkin_generated/setup_cached.sh) at configure time and leaves out folders that
@@ -99,7 +87,7 @@ build: deps
 	@mkdir -p $(BUILD_DIR)/devel/lib/python3/dist-packages && touch $(BUILD_DIR)/CATKIN_IGNORE
 	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(CMAKE_BUILD_TYPE) \
 	  -DPYTHON_EXECUTABLE=$(PY) -DCATKIN_DEVEL_PREFIX=$(BUILD_DIR)/devel \
-	  -DCATKIN_ENABLE_TESTING=ON
+	  -DCMAKE_INSTALL_PREFIX=$(BUILD_DIR)/install -DCATKIN_ENABLE_TESTING=ON
 	cmake --build $(BUILD_DIR) -j$(JOBS)
 
 # test: build the test binaries, run all gtests and rostests through catkin's run_tests

@@ -44,6 +44,9 @@ for pair in "${pairs[@]}"; do
 done
 
 echo "== aligning the estimated calibrations to the world (calibration cylinder)"
-"$bin/align_world" --calibration-in "$out/estimated" --calibration-out "$out/aligned" \
+pair_options=()
+for pair in "${pairs[@]}"; do pair_options+=(--pair "$pair"); done
+"$bin/align_world" --scene "$root/body_scan_driver/config/scenes/calibration_cylinder.yaml" \
+  "${pair_options[@]}" --calibration-in "$out/estimated" --calibration-out "$out/aligned" \
   --report "$report" --plot "$plot"
 echo "== done: $report"

@@ -179,7 +179,7 @@ LimbFit fitLimb(std::vector<Eigen::Vector3d> points, const std::vector<Eigen::Ve
     // and mixed with the buttocks' surface for a line of its own, and a line from the hip (inside
     // the pelvis, estimated) turns the hip's error into a ~4x larger error along the shank:
     // measured on 10 subjects x 4 poses, both bend estimates put the knee 38-45 mm off, the
-    // proportion 21-22 mm (evaluate_body_fit --direct 1).
+    // proportion 21-22 mm (evaluate_body_fit --direct).
     by_proportion = onLine(limb.lower, proportion_plane);
   } else {
     // Arms: where the two lines meet, if that lies within the search window.
@@ -298,19 +298,11 @@ FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,
 
 namespace {
 
-// Steps 5.5.2-5.5.4 on top of the axes already in fit. Throws std::invalid_argument when the
-// cloud does not have a body's shape.
-void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
-  const BodyAxes& axes = fit.axes;
-  std::vector<Eigen::Vector3d> model_points;
-  model_points.reserve(cloud.size());
-  for (const auto& p : cloud) model_points.push_back(axes.toModel(p));
-  fit.torso = fitTorso(model_points, axes, options.torso);
-  const TorsoFit& torso = fit.torso;
-  const double body_height = axes.height();
+// The parts of the body (5.5.2-5.5.4) each point (model coordinates) belongs to.
+std::vector<Part> segmentBody(const std::vector<Eigen::Vector3d>& model_points,
+                              const TorsoFit& torso, const Line& upper_axis, double body_height,
+                              const FitOptions& options) {
   const int sectors = options.torso.sectors;
-  const Line upper_axis{torso.waist, torso.upper_direction};
-
   // Segmentation (5.5.2-5.5.4). Above the torso: head and neck near the axis. Between the
   // centroid and the torso's top: points outside the cross-section polygon are arms (the chest
   // sections are closed). Below the centroid the polygon around the axis no longer separates
@@ -385,21 +377,20 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
     if (part[i] == kUnassigned && model_points[i].y() < torso.base)
       part[i] = model_points[i].x() > hip_line_centre.x() ? kLeftLeg : kRightLeg;
 
-  std::vector<Eigen::Vector3d> limb_points[6];
-  for (size_t i = 0; i < model_points.size(); ++i)
-    if (part[i] != kUnassigned) limb_points[part[i]].push_back(model_points[i]);
-  // Proximal joints. Shoulder: below the top of the shoulder above the upper-arm line by the
-  // arm's radius. Hip: on the thigh line at hip_height * body height above the lowest point.
-  auto shoulderOn = [&](const Line& line, double radius) {
-    const Eigen::Vector3d column = line.atHeight(torso.top);
-    double shoulder_top = -std::numeric_limits<double>::infinity();
-    for (const auto& p : model_points)
-      if (std::hypot(p.x() - column.x(), p.z() - column.z()) < radius &&
-          p.y() < torso.top + 0.1 * body_height)
-        shoulder_top = std::max(shoulder_top, p.y());
-    if (!std::isfinite(shoulder_top)) shoulder_top = torso.top;
-    return line.atHeight(shoulder_top - radius);
-  };
+  return part;
+}
+
+// Neck, chin and head (5.5.4) and the stature they imply.
+struct HeadFit {
+  double neck_area = 0;  // m^2; infinite when no section qualified
+  double chin = 0;       // height in the model frame
+  double head_area = 0;  // largest section of the head, m^2
+  Eigen::Vector3d head_direction;
+  double stature = 0;
+};
+
+HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vector<Part>& part,
+                const TorsoFit& torso, const BodyAxes& axes, int sectors) {
   // Head and neck (5.5.4): the neck is the narrowest section above the torso, the chin where the
   // sections widen again; the head runs from there to its highest point.
   double neck_area = std::numeric_limits<double>::infinity(), neck_height = torso.top;
@@ -470,6 +461,35 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
   // sight (tall subjects under the full scanner's top pairs).
   const double stature = std::max(head_top - axes.lowest, axes.stature);
 
+  return {neck_area, chin, head_area, head_direction, stature};
+}
+
+// The four limbs' lines, middle joints and far ends, and the shoulders and hips they hang from
+// (model coordinates; index 0 right, 1 left).
+struct LimbJoints {
+  LimbFit limbs[6];
+  Eigen::Vector3d shoulder[2], hip[2];
+};
+
+LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std::vector<Part>& part,
+                    const TorsoFit& torso, const BodyAxes& axes, double stature,
+                    const FitOptions& options) {
+  const double body_height = axes.height();
+  std::vector<Eigen::Vector3d> limb_points[6];
+  for (size_t i = 0; i < model_points.size(); ++i)
+    if (part[i] != kUnassigned) limb_points[part[i]].push_back(model_points[i]);
+  // Proximal joints. Shoulder: below the top of the shoulder above the upper-arm line by the
+  // arm's radius. Hip: on the thigh line at hip_height * body height above the lowest point.
+  auto shoulderOn = [&](const Line& line, double radius) {
+    const Eigen::Vector3d column = line.atHeight(torso.top);
+    double shoulder_top = -std::numeric_limits<double>::infinity();
+    for (const auto& p : model_points)
+      if (std::hypot(p.x() - column.x(), p.z() - column.z()) < radius &&
+          p.y() < torso.top + 0.1 * body_height)
+        shoulder_top = std::max(shoulder_top, p.y());
+    if (!std::isfinite(shoulder_top)) shoulder_top = torso.top;
+    return line.atHeight(shoulder_top - radius);
+  };
   // Hips: inside the pelvis, unseen. Height by proportion; depth on the lower torso's axis; each
   // hip above the centre of its thigh's top 10 cm (a thigh line extrapolated up from a low
   // crotch swings wildly when the knee is bent).
@@ -508,8 +528,10 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
                                           pelvis_centre + Eigen::Vector3d(hip_half_width, 0, 0)};
   constexpr double kArmRadius = 0.045;
   constexpr double kFootHeight = 0.06;  // * body height: the foot's points above the sole
-  LimbFit limbs[6];
-  Eigen::Vector3d shoulder[2], hip[2];  // index 0 right, 1 left (in model coordinates)
+  LimbJoints joints;
+  auto& limbs = joints.limbs;
+  auto& shoulder = joints.shoulder;
+  auto& hip = joints.hip;
   for (Part limb : {kRightArm, kLeftArm, kRightLeg, kLeftLeg}) {
     const bool arm = limb == kRightArm || limb == kLeftArm;
     const int side = limb == kLeftArm || limb == kLeftLeg ? 1 : 0;
@@ -551,6 +573,21 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
       hip[side] = hip_of_side[side];
   }
 
+  return joints;
+}
+
+// The body model in the world from the torso, head and limbs found (segment lengths, joint
+// angles, shape) and the joints' points.
+void assembleModel(const Line& upper_axis, const HeadFit& head, const LimbJoints& joints,
+                   BodyFit& fit) {
+  const BodyAxes& axes = fit.axes;
+  const TorsoFit& torso = fit.torso;
+  const double chin = head.chin, stature = head.stature, neck_area = head.neck_area,
+               head_area = head.head_area;
+  const Eigen::Vector3d& head_direction = head.head_direction;
+  const auto& limbs = joints.limbs;
+  const auto& shoulder = joints.shoulder;
+  const auto& hip = joints.hip;
   // Assemble the model in the world (eq 5.4 inverse): root at w_g with the body axes.
   BodyModel& model = fit.model;
   model.p = poseVectorFromFrame(axes.toWorld(torso.waist), axes.axes);
@@ -632,27 +669,53 @@ void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
     fit.joint_points.push_back({limb_info.distal, distal});
   }
   fit.joint_points.push_back({"head_top", axes.toWorld(upper_axis.atHeight(crown))});
-  if (options.refine) {
-    Cloud without_feet;
-    without_feet.reserve(cloud.size());
-    const double foot_top = axes.lowest + options.foot_height * body_height;
-    for (size_t i = 0; i < cloud.size(); ++i)
-      if (model_points[i].y() > foot_top) without_feet.push_back(cloud[i]);
-    fit.refinement = refineModel(model, without_feet, options.refinement);
-    // The refinement turns the shanks without the feet (the model has none) and holds their
-    // lengths, so their far ends swing away from the soles the direct fit found: end each lower
-    // leg again where the sole projects onto its refined line. Measured on 10 subjects x 4 poses:
-    // soles 34 -> 25 mm.
-    const PosedModel posed = forwardKinematics(model);
-    for (const auto& [part, segment] :
-         {std::pair{kRightLeg, kRightLowerLeg}, std::pair{kLeftLeg, kLeftLowerLeg}}) {
-      const PosedSegment& shank = posed.segments[segment];
-      const Eigen::Vector3d direction = (shank.distal - shank.proximal).normalized();
-      model.r[segment] =
-          std::max((axes.toWorld(limbs[part].distal_end) - shank.proximal).dot(direction),
-                   options.refinement.min_length);
-    }
+}
+
+// Refines the model on the cloud without the feet (the model has none), then ends each lower leg
+// where its sole projects onto the refined line.
+void refineWithoutFeet(const Cloud& cloud, const std::vector<Eigen::Vector3d>& model_points,
+                       const LimbJoints& joints, const FitOptions& options, BodyFit& fit) {
+  const BodyAxes& axes = fit.axes;
+  const double body_height = axes.height();
+  BodyModel& model = fit.model;
+  const auto& limbs = joints.limbs;
+  Cloud without_feet;
+  without_feet.reserve(cloud.size());
+  const double foot_top = axes.lowest + options.foot_height * body_height;
+  for (size_t i = 0; i < cloud.size(); ++i)
+    if (model_points[i].y() > foot_top) without_feet.push_back(cloud[i]);
+  fit.refinement = refineModel(model, without_feet, options.refinement);
+  // The refinement turns the shanks without the feet (the model has none) and holds their
+  // lengths, so their far ends swing away from the soles the direct fit found: end each lower
+  // leg again where the sole projects onto its refined line. Measured on 10 subjects x 4 poses:
+  // soles 34 -> 25 mm.
+  const PosedModel posed = forwardKinematics(model);
+  for (const auto& [part, segment] :
+       {std::pair{kRightLeg, kRightLowerLeg}, std::pair{kLeftLeg, kLeftLowerLeg}}) {
+    const PosedSegment& shank = posed.segments[segment];
+    const Eigen::Vector3d direction = (shank.distal - shank.proximal).normalized();
+    model.r[segment] =
+        std::max((axes.toWorld(limbs[part].distal_end) - shank.proximal).dot(direction),
+                 options.refinement.min_length);
   }
+}
+
+// Steps 5.5.2-5.5.4 on top of the axes already in fit. Throws std::invalid_argument when the
+// cloud does not have a body's shape.
+void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
+  const BodyAxes& axes = fit.axes;
+  std::vector<Eigen::Vector3d> model_points;
+  model_points.reserve(cloud.size());
+  for (const auto& p : cloud) model_points.push_back(axes.toModel(p));
+  fit.torso = fitTorso(model_points, axes, options.torso);
+  const TorsoFit& torso = fit.torso;
+  const Line upper_axis{torso.waist, torso.upper_direction};
+  const std::vector<Part> part =
+      segmentBody(model_points, torso, upper_axis, axes.height(), options);
+  const HeadFit head = fitHead(model_points, part, torso, axes, options.torso.sectors);
+  const LimbJoints joints = fitLimbs(model_points, part, torso, axes, head.stature, options);
+  assembleModel(upper_axis, head, joints, fit);
+  if (options.refine) refineWithoutFeet(cloud, model_points, joints, options, fit);
 }
 
 }  // namespace

@@ -9,6 +9,8 @@
 #include <body_scan_driver/sim/calibration_cylinder.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <body_scan_driver/stripe_decoder.h>
+#include <body_scan_driver/tools/command_line.h>
+#include <body_scan_driver/tools/package_file.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -26,28 +28,6 @@ using namespace body_scan_driver;
 using namespace body_scan_calib;
 
 namespace {
-
-const char* kUsage = R"(usage: align_world [options]
-Aligns each projector-camera pair to the world frame defined by the calibration cylinder
-(thesis sec. 4.3.2): detects and triangulates the cylinder's grid points, fits the affine of
-eq 4.1 per pair, writes each pair's calibration file with its world_alignment section and a
-YAML report with E_h (eq 4.2) over the points seen by two pairs.
-
-Live (simulator, default):
-  --scene FILE         cylinder scene (default: body_scan_driver's calibration_cylinder.yaml)
-  --pair FILE          a pair file (repeat; default: every config/alignment/*.yaml)
-  --save-images DIR    also write what each pair captured, for an offline run
-Offline:
-  --images DIR         one folder per pair as written by --save-images: frame_NN.png in
-                       pattern order, texture.png, capture.yaml (pair_id, bits, inverse_frames)
-Both:
-  --calibration-in DIR   pair calibrations to align, <pole>_<pair>.yaml (live: the simulator's
-                         factory calibration for a pair without a file; offline: required)
-  --calibration-out DIR  aligned calibrations (default ~/.ros/body_scan/calibration)
-  --report FILE          YAML report (default world_alignment_report.yaml)
-  --plot FILE            PNG: top view of the aligned points, E_h per shared point against
-                         height (default: the report's path with .png)
-)";
 
 struct Options {
   std::string scene, images, save_images, calibration_in, calibration_out, report, plot;
@@ -381,50 +361,70 @@ int run(const Options& options) {
   return failures == 0 ? 0 : 1;
 }
 
+// Returns the exit status when the tool should stop (--help, a usage error).
+std::optional<int> parseOptions(int argc, char** argv, Options& options) {
+  CLI::App app(
+      "Aligns each projector-camera pair to the world frame defined by the calibration cylinder "
+      "(thesis sec. 4.3.2): detects and triangulates the cylinder's grid points, fits the affine "
+      "of eq 4.1 per pair, writes each pair's calibration file with its world_alignment section "
+      "and a YAML report with E_h (eq 4.2) over the points seen by two pairs. Live against the "
+      "simulator (default) or offline from an image folder (--images).",
+      "align_world");
+  const char* home = std::getenv("HOME");
+  options.calibration_out = std::string(home ? home : ".") + "/.ros/body_scan/calibration";
+  options.report = "world_alignment_report.yaml";
+  auto* live = app.add_option_group("Live (simulator, default)");
+  auto* scene = live->add_option(
+      "--scene", options.scene,
+      "cylinder scene (default: body_scan_driver's config/scenes/calibration_cylinder.yaml)");
+  scene->check(CLI::ExistingFile);
+  auto* pair =
+      live->add_option("--pair", options.pairs,
+                       "a pair file (repeat; default: body_scan_calib's config/alignment/*.yaml)");
+  pair->check(CLI::ExistingFile);
+  auto* save_images = live->add_option("--save-images", options.save_images,
+                                       "also write what each pair captured, for an offline run");
+  auto* offline = app.add_option_group("Offline");
+  offline
+      ->add_option("--images", options.images,
+                   "one folder per pair as written by --save-images: frame_NN.png in pattern "
+                   "order, texture.png, capture.yaml (pair_id, bits, inverse_frames)")
+      ->excludes(scene)
+      ->excludes(pair)
+      ->excludes(save_images);
+  app.add_option("--calibration-in", options.calibration_in,
+                 "pair calibrations to align, <pole>_<pair>.yaml (live: the simulator's factory "
+                 "calibration for a pair without a file; offline: required)");
+  app.add_option("--calibration-out", options.calibration_out, "aligned calibrations")
+      ->capture_default_str();
+  app.add_option("--report", options.report, "YAML report")->capture_default_str();
+  app.add_option("--plot", options.plot,
+                 "PNG: top view of the aligned points, E_h per shared point against height "
+                 "(default: the report's path with .png)");
+  return body_scan_driver::tools::parseCommandLine(app, argc, argv);
+}
+
+// The live run's defaults from the packages that ship them: the cylinder scene, every pair file
+// of the alignment rig.
+void liveDefaults(Options& options) {
+  if (options.scene.empty())
+    options.scene = body_scan_driver::tools::packageFile(
+        "body_scan_driver", "config/scenes/calibration_cylinder.yaml", "--scene");
+  if (options.pairs.empty()) {
+    for (const auto& entry : fs::directory_iterator(
+             body_scan_driver::tools::packageFile("body_scan_calib", "config/alignment", "--pair")))
+      if (entry.path().extension() == ".yaml") options.pairs.push_back(entry.path().string());
+    std::sort(options.pairs.begin(), options.pairs.end());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   Options options;
-  options.scene = BODY_SCAN_DRIVER_CONFIG_DIR "/scenes/calibration_cylinder.yaml";
-  const char* home = std::getenv("HOME");
-  options.calibration_out = std::string(home ? home : ".") + "/.ros/body_scan/calibration";
-  options.report = "world_alignment_report.yaml";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::cerr << arg << " needs a value\n" << kUsage;
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (arg == "--scene")
-      options.scene = value();
-    else if (arg == "--pair")
-      options.pairs.push_back(value());
-    else if (arg == "--images")
-      options.images = value();
-    else if (arg == "--save-images")
-      options.save_images = value();
-    else if (arg == "--calibration-in")
-      options.calibration_in = value();
-    else if (arg == "--calibration-out")
-      options.calibration_out = value();
-    else if (arg == "--report")
-      options.report = value();
-    else if (arg == "--plot")
-      options.plot = value();
-    else {
-      std::cerr << (arg == "--help" || arg == "-h" ? "" : "unknown option " + arg + "\n") << kUsage;
-      return arg == "--help" || arg == "-h" ? 0 : 2;
-    }
-  }
-  if (options.images.empty() && options.pairs.empty()) {
-    for (const auto& entry : fs::directory_iterator(BODY_SCAN_CALIB_CONFIG_DIR "/alignment"))
-      if (entry.path().extension() == ".yaml") options.pairs.push_back(entry.path().string());
-    std::sort(options.pairs.begin(), options.pairs.end());
-  }
+  if (const auto status = parseOptions(argc, argv, options)) return *status;
   try {
+    if (options.images.empty()) liveDefaults(options);
     return run(options);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -6,13 +6,12 @@
 //                    [--camera-name NAME] [--estimate-skew]
 #include <body_scan_calib/camera_calibration.h>
 #include <body_scan_calib/camera_calibration_io.h>
+#include <body_scan_driver/tools/command_line.h>
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
@@ -22,63 +21,11 @@ using namespace body_scan_calib;
 
 namespace {
 
-const char* kUsage =
-    "usage: calibrate_camera --images DIR --cols N --rows N --square METRES --output FILE\n"
-    "                        [--camera-name NAME] [--estimate-skew]\n"
-    "  --cols/--rows  INNER corners of the board (where four squares meet), e.g. 9 and 6\n"
-    "  --square       side of one square in metres, e.g. 0.025\n"
-    "  --output       calibration YAML to write (atomically); its camera part is readable by\n"
-    "                 camera_calibration_parsers\n"
-    "  --estimate-skew  also estimate the skew gamma (default: held at 0)\n";
-
 struct Arguments {
   std::string images, output, camera_name = "camera";
   Checkerboard board;
   bool estimate_skew = false;
 };
-
-[[noreturn]] void usageError(const std::string& message) {
-  std::cerr << "calibrate_camera: " << message << "\n" << kUsage;
-  std::exit(2);
-}
-
-Arguments parseArguments(int argc, char** argv) {
-  Arguments arguments;
-  std::map<std::string, std::string> values;
-  for (int i = 1; i < argc; ++i) {
-    const std::string key = argv[i];
-    if (key == "--help" || key == "-h") {
-      std::cout << kUsage;
-      std::exit(0);
-    }
-    if (key == "--estimate-skew") {
-      arguments.estimate_skew = true;
-      continue;
-    }
-    if (key != "--images" && key != "--cols" && key != "--rows" && key != "--square" &&
-        key != "--output" && key != "--camera-name")
-      usageError("unknown option '" + key + "'");
-    if (i + 1 >= argc) usageError("option " + key + " needs a value");
-    values[key] = argv[++i];
-  }
-  for (const char* required : {"--images", "--output"})
-    if (!values.count(required)) usageError(std::string("missing ") + required);
-  arguments.images = values["--images"];
-  arguments.output = values["--output"];
-  if (values.count("--camera-name")) arguments.camera_name = values["--camera-name"];
-  try {
-    if (values.count("--cols")) arguments.board.inner_cols = std::stoi(values["--cols"]);
-    if (values.count("--rows")) arguments.board.inner_rows = std::stoi(values["--rows"]);
-    if (values.count("--square")) arguments.board.square_size = std::stod(values["--square"]);
-  } catch (const std::exception&) {
-    usageError("--cols and --rows need integers, --square a number of metres");
-  }
-  if (arguments.board.inner_cols < 2 || arguments.board.inner_rows < 2)
-    usageError("--cols and --rows count INNER corners and must be >= 2");
-  if (!(arguments.board.square_size > 0) || arguments.board.square_size > 1)
-    usageError("--square is the square side in METRES (e.g. 0.025), got " + values["--square"]);
-  return arguments;
-}
 
 std::vector<fs::path> listImages(const std::string& folder) {
   std::vector<fs::path> images;
@@ -93,26 +40,16 @@ std::vector<fs::path> listImages(const std::string& folder) {
   return images;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  const Arguments arguments = parseArguments(argc, argv);
-  if (!fs::is_directory(arguments.images)) {
-    std::cerr << "calibrate_camera: '" << arguments.images
-              << "' is not a folder; pass --images with the folder of board images\n";
-    return 1;
-  }
-  const std::vector<fs::path> files = listImages(arguments.images);
-  if (files.empty()) {
-    std::cerr << "calibrate_camera: no images (.png, .jpg, .bmp, .pgm, .ppm, .tif) in '"
-              << arguments.images << "'\n";
-    return 1;
-  }
-
+// The board's corners in every image where it is found (progress line per image).
+struct DetectedViews {
   std::vector<std::vector<Eigen::Vector2d>> views;
   std::vector<std::string> view_names, not_found;
   int width = 0, height = 0;
-  const Checkerboard& board = arguments.board;
+};
+
+DetectedViews detectBoards(const std::vector<fs::path>& files, const Checkerboard& board) {
+  DetectedViews detected;
+  auto& [views, view_names, not_found, width, height] = detected;
   for (size_t i = 0; i < files.size(); ++i) {
     const std::string name = files[i].filename().string();
     std::printf("[%zu/%zu] %s: ", i + 1, files.size(), name.c_str());
@@ -139,6 +76,81 @@ int main(int argc, char** argv) {
     views.push_back(corners);
     view_names.push_back(name);
   }
+  return detected;
+}
+
+// The parameters with their standard deviations, and the reprojection RMS per view.
+void printCalibration(const CameraCalibrationResult& r, const std::vector<std::string>& view_names,
+                      bool estimate_skew, const std::string& output) {
+  const body_scan_driver::PinholeCamera& c = r.camera;
+  std::printf("alpha (fx) %10.3f +- %.3f px\n", c.alpha, r.std_devs[0]);
+  std::printf("beta  (fy) %10.3f +- %.3f px\n", c.beta, r.std_devs[1]);
+  std::printf("gamma      %10.4f +- %.4f px%s\n", c.gamma, r.std_devs[2],
+              estimate_skew ? "" : " (held at 0)");
+  std::printf("u0    (cx) %10.3f +- %.3f px\n", c.u0, r.std_devs[3]);
+  std::printf("v0    (cy) %10.3f +- %.3f px\n", c.v0, r.std_devs[4]);
+  std::printf("k1         %10.5f +- %.5f\n", c.k1, r.std_devs[5]);
+  std::printf("k2         %10.5f +- %.5f\n", c.k2, r.std_devs[6]);
+  std::printf("reprojection RMS %.4f px over %zu views (%d iterations)\n", r.rms_px,
+              view_names.size(), r.iterations);
+  for (size_t i = 0; i < view_names.size(); ++i)
+    std::printf("  %-24s rms %.4f px\n", view_names[i].c_str(), r.per_view_rms_px[i]);
+  std::printf("wrote %s\n", output.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app(
+      "Calibrates a camera from a folder of checkerboard images (thesis sec. 3.3.1) and writes a "
+      "YAML whose camera part camera_calibration_parsers reads, with the reprojection RMS and "
+      "the parameter standard deviations.",
+      "calibrate_camera");
+  Arguments arguments;
+  app.add_option("--images", arguments.images, "folder of board images")->required();
+  app.add_option("--cols", arguments.board.inner_cols,
+                 "INNER corners of the board across (where four squares meet), e.g. 9")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 1000));
+  app.add_option("--rows", arguments.board.inner_rows, "INNER corners of the board down, e.g. 6")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 1000));
+  app.add_option("--square", arguments.board.square_size,
+                 "side of one square in METRES, e.g. 0.025")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            double metres = 0;
+            return CLI::detail::lexical_cast(text, metres) && metres > 0 && metres <= 1
+                       ? std::string()
+                       : "the side of one square in METRES (e.g. 0.025), got " + text;
+          },
+          "METRES"));
+  app.add_option("--output", arguments.output,
+                 "calibration YAML to write (atomically); its camera part is readable by "
+                 "camera_calibration_parsers")
+      ->required();
+  app.add_option("--camera-name", arguments.camera_name, "camera name in the file")
+      ->capture_default_str();
+  app.add_flag("--estimate-skew", arguments.estimate_skew,
+               "also estimate the skew gamma (default: held at 0)");
+  if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv))
+    return *status;
+  if (!fs::is_directory(arguments.images)) {
+    std::cerr << "calibrate_camera: '" << arguments.images
+              << "' is not a folder; pass --images with the folder of board images\n";
+    return 1;
+  }
+  const std::vector<fs::path> files = listImages(arguments.images);
+  if (files.empty()) {
+    std::cerr << "calibrate_camera: no images (.png, .jpg, .bmp, .pgm, .ppm, .tif) in '"
+              << arguments.images << "'\n";
+    return 1;
+  }
+
+  const Checkerboard& board = arguments.board;
+  const DetectedViews detected = detectBoards(files, board);
+  const auto& [views, view_names, not_found, width, height] = detected;
   std::fflush(stdout);
   if (!not_found.empty()) {
     std::cerr << "calibrate_camera: board of " << board.inner_cols << "x" << board.inner_rows
@@ -170,20 +182,6 @@ int main(int argc, char** argv) {
     std::cerr << "calibrate_camera: " << e.what() << "\n";
     return 1;
   }
-  const CameraCalibrationResult& r = report.result;
-  const body_scan_driver::PinholeCamera& c = r.camera;
-  std::printf("alpha (fx) %10.3f +- %.3f px\n", c.alpha, r.std_devs[0]);
-  std::printf("beta  (fy) %10.3f +- %.3f px\n", c.beta, r.std_devs[1]);
-  std::printf("gamma      %10.4f +- %.4f px%s\n", c.gamma, r.std_devs[2],
-              arguments.estimate_skew ? "" : " (held at 0)");
-  std::printf("u0    (cx) %10.3f +- %.3f px\n", c.u0, r.std_devs[3]);
-  std::printf("v0    (cy) %10.3f +- %.3f px\n", c.v0, r.std_devs[4]);
-  std::printf("k1         %10.5f +- %.5f\n", c.k1, r.std_devs[5]);
-  std::printf("k2         %10.5f +- %.5f\n", c.k2, r.std_devs[6]);
-  std::printf("reprojection RMS %.4f px over %zu views (%d iterations)\n", r.rms_px, views.size(),
-              r.iterations);
-  for (size_t i = 0; i < views.size(); ++i)
-    std::printf("  %-24s rms %.4f px\n", view_names[i].c_str(), r.per_view_rms_px[i]);
-  std::printf("wrote %s\n", arguments.output.c_str());
+  printCalibration(report.result, view_names, arguments.estimate_skew, arguments.output);
   return 0;
 }

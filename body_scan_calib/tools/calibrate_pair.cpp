@@ -9,6 +9,7 @@
 #include <body_scan_calib/sim/calibration_scenes.h>
 #include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/calibration_file.h>
+#include <body_scan_driver/tools/command_line.h>
 
 #include <chrono>
 #include <cstdio>
@@ -16,32 +17,13 @@
 #include <iostream>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <string>
 
 using namespace body_scan_driver;
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr const char* kUsage = R"(usage:
-  calibrate_pair --live [options]          place the board in its poses in the simulator
-  calibrate_pair --images FOLDER [options] recorded captures: FOLDER/pose_NN/frame_MM.png
-                                           (pattern frames in PatternSet order, >= 3 poses),
-                                           optional FOLDER/spheres/frame_MM.png to evaluate
-options:
-  --pair FILE          virtual pair file (live; default: the built-in default pair); its
-                       pair_id names the calibration (camera_name) and the report
-  --pair-id ID         pair id written into the files (offline: default "pair"; live:
-                       overrides the pair file's), e.g. pole_a/pair_1
-  --exposures N        frames averaged per pattern for the static targets (default 16;
-                       offline: how many the recorded frames average, for the report)
-  --bits B             Gray code bits of the captures (default 8; live: from the pair)
-  --output FILE        calibration file (default calibration/pair.yaml)
-  --report FILE        accuracy report (default calibration/pair_accuracy.yaml)
-  --plot FILE          projector parameters plot (default calibration/projector_parameters.png)
-  --save-images DIR    live: also write the captures in the --images layout
-  --no-refinement      skip the joint Ceres refinement
-)";
 
 struct Arguments {
   bool live = false;
@@ -52,45 +34,54 @@ struct Arguments {
               plot = "calibration/projector_parameters.png";
 };
 
-Arguments parse(int argc, char** argv) {
-  Arguments arguments;
-  for (int i = 1; i < argc; ++i) {
-    const std::string flag = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(flag + " needs a value");
-      return argv[++i];
-    };
-    if (flag == "--live")
-      arguments.live = true;
-    else if (flag == "--images")
-      arguments.images = value();
-    else if (flag == "--pair")
-      arguments.pair = value();
-    else if (flag == "--pair-id")
-      arguments.pair_id = value();
-    else if (flag == "--exposures")
-      arguments.exposures = std::stoi(value());
-    else if (flag == "--bits")
-      arguments.bits = std::stoi(value());
-    else if (flag == "--output")
-      arguments.output = value();
-    else if (flag == "--report")
-      arguments.report = value();
-    else if (flag == "--plot")
-      arguments.plot = value();
-    else if (flag == "--save-images")
-      arguments.save_images = value();
-    else if (flag == "--no-refinement")
-      arguments.refinement = false;
-    else
-      throw std::invalid_argument("unknown option " + flag);
+// Returns the exit status when the tool should stop (--help, a usage error).
+std::optional<int> parse(int argc, char** argv, Arguments& arguments) {
+  CLI::App app(
+      "Calibrates one projector-camera pair from reference-plane poses (thesis sec. 3.3) and "
+      "evaluates it on five spheres (sec. 3.4.2) beside the pinhole-projector baseline. Live "
+      "against the simulator (--live), or offline from an image folder (--images).",
+      "calibrate_pair");
+  auto* live =
+      app.add_flag("--live", arguments.live, "place the board in its poses in the simulator");
+  auto* images =
+      app.add_option("--images", arguments.images,
+                     "recorded captures: FOLDER/pose_NN/frame_MM.png (pattern frames in "
+                     "PatternSet order, >= 3 poses), optional FOLDER/spheres/frame_MM.png to "
+                     "evaluate")
+          ->check(CLI::ExistingDirectory);
+  live->excludes(images);
+  app.add_option("--pair", arguments.pair,
+                 "virtual pair file (default: the built-in default pair); its pair_id names the "
+                 "calibration (camera_name) and the report")
+      ->check(CLI::ExistingFile)
+      ->needs(live);
+  app.add_option("--pair-id", arguments.pair_id,
+                 "pair id written into the files (offline: default \"pair\"; live: overrides the "
+                 "pair file's), e.g. pole_a/pair_1");
+  app.add_option("--exposures", arguments.exposures,
+                 "frames averaged per pattern for the static targets (offline: how many the "
+                 "recorded frames average, for the report)")
+      ->capture_default_str()
+      ->check(body_scan_driver::tools::atLeast(1));
+  app.add_option("--bits", arguments.bits, "Gray code bits of the captures (live: from the pair)")
+      ->capture_default_str()
+      ->check(CLI::Range(body_scan_driver::kMinBits, body_scan_driver::kMaxBits));
+  app.add_option("--output", arguments.output, "calibration file")->capture_default_str();
+  app.add_option("--report", arguments.report, "accuracy report")->capture_default_str();
+  app.add_option("--plot", arguments.plot, "projector parameters plot")->capture_default_str();
+  app.add_option("--save-images", arguments.save_images,
+                 "live: also write the captures in the --images layout")
+      ->needs(live);
+  bool no_refinement = false;
+  app.add_flag("--no-refinement", no_refinement, "skip the joint Ceres refinement");
+  if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv)) return status;
+  arguments.refinement = !no_refinement;
+  if (arguments.live == !arguments.images.empty()) {
+    std::cerr << "calibrate_pair: give exactly one of --live and --images FOLDER\nRun with --help "
+                 "for more information.\n";
+    return 2;
   }
-  if (arguments.live == !arguments.images.empty())
-    throw std::invalid_argument("give exactly one of --live and --images FOLDER");
-  if (arguments.exposures < 1) throw std::invalid_argument("--exposures must be >= 1");
-  if (!arguments.live && !arguments.pair.empty())
-    throw std::invalid_argument("--pair FILE is for --live; offline, name the pair with --pair-id");
-  return arguments;
+  return std::nullopt;
 }
 
 void progress(const std::string& message) { std::cout << "  " << message << std::endl; }
@@ -99,12 +90,7 @@ void progress(const std::string& message) { std::cout << "  " << message << std:
 
 int main(int argc, char** argv) {
   Arguments arguments;
-  try {
-    arguments = parse(argc, argv);
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n" << kUsage;
-    return 2;
-  }
+  if (const auto status = parse(argc, argv, arguments)) return *status;
   try {
     const auto start = std::chrono::steady_clock::now();
     body_scan_calib::PairCalibrationOptions options;

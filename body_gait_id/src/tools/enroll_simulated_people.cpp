@@ -13,34 +13,17 @@
 #include <body_gait_id/eval/gait_id_evaluation.h>
 #include <body_gait_model/eval/gait_subjects.h>
 #include <body_scan_driver/atomic_file.h>
+#include <body_scan_driver/tools/command_line.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cstdio>
-#include <cstdlib>
 #include <string>
+
+#include "scanner_choices.h"
 
 namespace {
 
 using namespace body_gait_id;
-
-[[noreturn]] void usage(const std::string& problem) {
-  std::fprintf(stderr,
-               "enroll_simulated_people: %s\n"
-               "usage: enroll_simulated_people --database FILE [--people N (default 6)] "
-               "[--trial T (default 0)] [--seed S] [--scanner full|sampler|truth (default full)] "
-               "[--cache DIR] [--threads T] [--walk-body median|mean] [--scene-out FILE.yaml "
-               "--scene-person K "
-               "--scene-trial T --scene-pose P (1..4)]\n",
-               problem.c_str());
-  std::exit(2);
-}
-
-int integer(const char* text, const std::string& flag) {
-  char* end = nullptr;
-  const long value = std::strtol(text, &end, 10);
-  if (end == text || *end != '\0') usage(flag + " needs a whole number, got '" + text + "'");
-  return static_cast<int>(value);
-}
 
 // The scene of make demo's walking subject with this person's body instead (same floor).
 std::string sceneFile(const body_scan_driver::sim::HumanBodySpec& person) {
@@ -60,62 +43,54 @@ std::string sceneFile(const body_scan_driver::sim::HumanBodySpec& person) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  namespace tools = body_scan_driver::tools;
+  CLI::App app(
+      "Enrols simulated people into a gallery database (each person's four representative poses "
+      "of walk --trial scanned and fitted, enrolled as the eta1 and eta2 training cycles) and "
+      "writes a scene file of one of them on another walk: what make demo scans and identifies.",
+      "enroll_simulated_people");
   std::string database_path, scene_path;
   int people_count = 6, trial = 0, scene_person = 0, scene_trial = 1, scene_pose = 1;
   std::uint32_t seed = 1;
   eval::ScanOptions scan;
   scan.scanner = eval::ScannerKind::kFull;
   bool median_body = true;
-  for (int i = 1; i < argc; i += 2) {
-    const std::string flag = argv[i];
-    if (i + 1 >= argc) usage(flag + " needs a value");
-    const char* value = argv[i + 1];
-    if (flag == "--database") {
-      database_path = value;
-    } else if (flag == "--people") {
-      people_count = integer(value, flag);
-    } else if (flag == "--trial") {
-      trial = integer(value, flag);
-    } else if (flag == "--seed") {
-      seed = static_cast<std::uint32_t>(integer(value, flag));
-    } else if (flag == "--scanner") {
-      const std::string kind = value;
-      if (kind == "full")
-        scan.scanner = eval::ScannerKind::kFull;
-      else if (kind == "sampler")
-        scan.scanner = eval::ScannerKind::kSampler;
-      else if (kind == "truth")
-        scan.scanner = eval::ScannerKind::kTruth;
-      else
-        usage("--scanner must be full, sampler or truth, got '" + kind + "'");
-    } else if (flag == "--cache") {
-      scan.cache_folder = value;
-    } else if (flag == "--threads") {
-      scan.threads = integer(value, flag);
-    } else if (flag == "--walk-body") {
-      const std::string rule = value;
-      if (rule != "median" && rule != "mean")
-        usage("--walk-body must be median or mean, got '" + rule + "'");
-      median_body = rule == "median";
-    } else if (flag == "--scene-out") {
-      scene_path = value;
-    } else if (flag == "--scene-person") {
-      scene_person = integer(value, flag);
-    } else if (flag == "--scene-trial") {
-      scene_trial = integer(value, flag);
-    } else if (flag == "--scene-pose") {
-      scene_pose = integer(value, flag);
-    } else {
-      usage("unknown option " + flag);
-    }
+  app.add_option("--database", database_path, "gallery database (SQLite)")->required();
+  app.add_option("--people", people_count, "simulated people")
+      ->capture_default_str()
+      ->check(tools::atLeast(1));
+  app.add_option("--trial", trial, "the enrolled walk (numbered from 0)")
+      ->capture_default_str()
+      ->check(tools::atLeast(0));
+  app.add_option("--seed", seed, "seed of the simulated people")->capture_default_str();
+  tools::addChoice(app, "--scanner", scan.scanner, body_gait_id::tools::kScannerChoices,
+                   "full: the 12-pair scanner simulation; sampler: rays cast from its "
+                   "viewpoints; truth: no scan and no fit");
+  app.add_option("--cache", scan.cache_folder, "fit cache folder (fits are reused)");
+  app.add_option("--threads", scan.threads, "scans in parallel")
+      ->capture_default_str()
+      ->check(tools::inRange(1, 16));
+  tools::addChoice(app, "--walk-body", median_body, {{"median", true}, {"mean", false}},
+                   "a walk's body measures (gait_id_node's ~walk_body)");
+  app.add_option("--scene-out", scene_path, "write the scene of one person's walk (YAML)");
+  auto* person_option =
+      app.add_option("--scene-person", scene_person, "the scene's person (0 .. --people - 1)")
+          ->capture_default_str()
+          ->check(tools::atLeast(0));
+  app.add_option("--scene-trial", scene_trial, "the scene's walk (numbered from 0)")
+      ->capture_default_str()
+      ->check(tools::atLeast(0));
+  app.add_option("--scene-pose", scene_pose, "the scene's representative pose (thesis 5.3)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 4));
+  if (const auto status = tools::parseCommandLine(app, argc, argv)) return *status;
+  if (scene_person >= people_count) {
+    std::fprintf(stderr,
+                 "enroll_simulated_people: %s must be 0..%d\nRun with --help for more "
+                 "information.\n",
+                 person_option->get_name().c_str(), people_count - 1);
+    return 2;
   }
-  if (database_path.empty()) usage("--database is required");
-  if (people_count < 1) usage("--people must be >= 1");
-  if (trial < 0 || scene_trial < 0) usage("walks (--trial, --scene-trial) are numbered from 0");
-  if (scene_person < 0 || scene_person >= people_count)
-    usage("--scene-person must be 0.." + std::to_string(people_count - 1));
-  if (scene_pose < 1 || scene_pose > 4) usage("--scene-pose must be 1..4 (thesis 5.3)");
-  if (scan.threads < 1 || scan.threads > 16) usage("--threads must be 1..16");
 
   const std::vector<body_gait_model::eval::SimulatedPerson> persons =
       body_gait_model::eval::simulatedPeople(people_count, seed);

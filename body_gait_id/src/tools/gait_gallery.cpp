@@ -3,6 +3,7 @@
 #include <body_gait_id/feature_noise_file.h>
 #include <body_gait_id/gallery_database.h>
 #include <body_gait_id/models_file.h>
+#include <body_scan_driver/tools/command_line.h>
 
 #include <cstdio>
 #include <fstream>
@@ -12,77 +13,71 @@
 
 namespace {
 
-constexpr const char* kUsage = R"(usage: gait_gallery [--database FILE] COMMAND ...
-
-  list                                  enrolled subjects (id, name, gender, age, poses, scans)
-  enroll --name NAME [--gender G] [--age YEARS] --models FILE.yaml [--scan PATH]...
-         [--walk-body mean|median]      enrol a person from 4 fitted representative poses
-                                        s1..s4 (YAML 'poses:' list, see models_file.h): the
-                                        eta1 and eta2 training cycles, 40 poses; median: the
-                                        body measures are the median of the 4 fits
-  remove ID                             remove a subject with their scans and poses
-  export [--format yaml|csv] [--output FILE]
-                                        the whole gallery (YAML) or one row per pose (CSV)
-  identify --models FILE.yaml [--feature-set dynamic|dynamic_static|dynamic_static_shape]
-           [--view 3d|frontal|side] [--feature-noise FILE.yaml]
-                                        nearest gallery pose of every model in the file;
-                                        with a noise file (evaluate_gait_id --write-noise)
-                                        each component weighted by between / within SD
-
-  --database FILE   default $ROS_HOME/gait_gallery.db (the gait_id_node's default)
-)";
-
+// The command line: one subcommand and its options (see --help).
 struct Arguments {
-  std::string command;
-  std::vector<std::string> positional;
-  std::multimap<std::string, std::string> options;
-  std::string one(const std::string& key, const std::string& fallback = "") const {
-    const auto it = options.find(key);
-    return it == options.end() ? fallback : it->second;
-  }
-  std::string required(const std::string& key) const {
-    const auto it = options.find(key);
-    if (it == options.end())
-      throw std::invalid_argument(command + " needs --" + key + " (see gait_gallery --help)");
-    return it->second;
-  }
+  std::string command, database;
+  std::string name, gender, models, walk_body = "mean", format = "yaml", output, view = "3d",
+                                    feature_set = "dynamic_static", feature_noise;
+  int age = 0;
+  std::vector<std::string> scans;
+  std::int64_t subject_id = 0;
 };
 
-// A whole decimal integer, or an error naming the option and what was given.
-long long integer(const std::string& text, const std::string& what) {
-  std::size_t used = 0;
-  long long value = 0;
-  try {
-    value = std::stoll(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
+// Returns the exit status when the tool should stop (--help, a usage error).
+std::optional<int> parse(int argc, char** argv, Arguments& args) {
+  CLI::App app("The gait gallery database from the command line (no ROS needed).", "gait_gallery");
+  app.require_subcommand(0, 1);
+  args.database = body_gait_id::defaultGalleryPath();
+  app.add_option("--database", args.database, "gallery file (gait_id_node's default)")
+      ->capture_default_str();
+  app.add_subcommand("list", "enrolled subjects (id, name, gender, age, poses, scans)");
+  CLI::App* enroll = app.add_subcommand(
+      "enroll",
+      "enrol a person from 4 fitted representative poses s1..s4 (YAML 'poses:' list, see "
+      "models_file.h): the eta1 and eta2 training cycles, 40 poses");
+  enroll->add_option("--name", args.name, "the person's name")->required();
+  enroll->add_option("--gender", args.gender, "the person's gender");
+  enroll->add_option("--age", args.age, "age in years")->check(body_scan_driver::tools::atLeast(0));
+  enroll->add_option("--models", args.models, "the 4 fitted poses (YAML)")->required();
+  enroll->add_option("--scan", args.scans, "a scan of the person to keep with them (repeat)");
+  enroll
+      ->add_option("--walk-body", args.walk_body,
+                   "the body measures: the mean of the 4 fits, or their median")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"mean", "median"}));
+  CLI::App* remove = app.add_subcommand("remove", "remove a subject with their scans and poses");
+  remove->add_option("ID", args.subject_id, "subject id (gait_gallery list)")->required();
+  CLI::App* export_command =
+      app.add_subcommand("export", "the whole gallery (YAML) or one row per pose (CSV)");
+  export_command->add_option("--format", args.format, "yaml or csv")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"yaml", "csv"}));
+  export_command->add_option("--output", args.output, "file (default: standard output)");
+  CLI::App* identify = app.add_subcommand(
+      "identify",
+      "nearest gallery pose of every model in the file; with a noise file (evaluate_gait_id "
+      "--write-noise) each component weighted by between / within SD");
+  identify->add_option("--models", args.models, "the models to identify (YAML)")->required();
+  identify
+      ->add_option("--feature-set", args.feature_set,
+                   "dynamic, dynamic_static or dynamic_static_shape")
+      ->capture_default_str();
+  identify->add_option("--view", args.view, "3d, frontal or side")->capture_default_str();
+  identify->add_option("--feature-noise", args.feature_noise, "feature noise file (YAML)");
+  if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv)) return status;
+  if (app.get_subcommands().empty()) {
+    std::fprintf(stderr,
+                 "gait_gallery: give a command: list, enroll, remove, export or identify\nRun "
+                 "with --help for more information.\n");
+    return 2;
   }
-  if (used == 0 || used != text.size())
-    throw std::invalid_argument(what + " must be a whole number, not '" + text + "'");
-  return value;
-}
-
-Arguments parse(int argc, char** argv) {
-  Arguments args;
-  for (int i = 1; i < argc; ++i) {
-    const std::string word = argv[i];
-    if (word == "-h" || word == "--help") throw std::invalid_argument("");
-    if (word.rfind("--", 0) == 0) {
-      if (i + 1 >= argc) throw std::invalid_argument(word + " needs a value");
-      args.options.emplace(word.substr(2), argv[++i]);
-    } else if (args.command.empty()) {
-      args.command = word;
-    } else {
-      args.positional.push_back(word);
-    }
-  }
-  if (args.command.empty()) throw std::invalid_argument("no command given");
-  return args;
+  args.command = app.get_subcommands().front()->get_name();
+  return std::nullopt;
 }
 
 int run(const Arguments& args) {
   using namespace body_gait_id;
-  GalleryDatabase db(args.one("database", defaultGalleryPath()));
+  GalleryDatabase db(args.database);
   if (args.command == "list") {
     const std::vector<Subject> subjects = db.subjects();
     std::printf("%s: %zu subjects\n", db.path().c_str(), subjects.size());
@@ -96,27 +91,17 @@ int run(const Arguments& args) {
     return 0;
   }
   if (args.command == "enroll") {
-    const SubjectInfo info{args.required("name"), args.one("gender"),
-                           static_cast<int>(integer(args.one("age", "0"), "--age"))};
-    std::vector<std::string> scans;
-    for (auto [it, end] = args.options.equal_range("scan"); it != end; ++it)
-      scans.push_back(it->second);
-    const body_gait_model::RepresentativePoses s =
-        representativePoses(readBodyModels(args.required("models")));
-    const std::string walk_body = args.one("walk-body", "mean");
-    if (walk_body != "mean" && walk_body != "median")
-      throw std::invalid_argument("--walk-body must be mean or median, got '" + walk_body + "'");
+    const SubjectInfo info{args.name, args.gender, args.age};
+    const body_gait_model::RepresentativePoses s = representativePoses(readBodyModels(args.models));
     const std::vector<PoseRecord> poses =
-        trainingPoses(walk_body == "median" ? withMedianBody(s) : s);
-    const std::int64_t id = db.enroll(info, scans, poses);
+        trainingPoses(args.walk_body == "median" ? withMedianBody(s) : s);
+    const std::int64_t id = db.enroll(info, args.scans, poses);
     std::printf("enrolled '%s' as subject %ld (%zu poses) in %s\n", info.name.c_str(),
                 static_cast<long>(id), poses.size(), db.path().c_str());
     return 0;
   }
   if (args.command == "remove") {
-    if (args.positional.size() != 1)
-      throw std::invalid_argument("remove needs one subject id (see gait_gallery list)");
-    const std::int64_t id = integer(args.positional[0], "the subject id");
+    const std::int64_t id = args.subject_id;
     if (!db.remove(id)) {
       std::fprintf(stderr, "gait_gallery: no subject %ld in %s (see gait_gallery list)\n",
                    static_cast<long>(id), db.path().c_str());
@@ -126,10 +111,8 @@ int run(const Arguments& args) {
     return 0;
   }
   if (args.command == "export") {
-    const std::string format = args.one("format", "yaml");
-    if (format != "yaml" && format != "csv")
-      throw std::invalid_argument("unknown --format '" + format + "': use yaml or csv");
-    const std::string output = args.one("output");
+    const std::string& format = args.format;
+    const std::string& output = args.output;
     std::ofstream file;
     if (!output.empty()) {
       file.open(output);
@@ -144,14 +127,14 @@ int run(const Arguments& args) {
     return 0;
   }
   if (args.command == "identify") {
-    const View view = parseView(args.one("view", "3d"));
+    const View view = parseView(args.view);
     std::optional<FeatureNoise> noise;
-    if (!args.one("feature-noise").empty()) noise = readFeatureNoise(args.one("feature-noise"));
-    const Matcher matcher = db.matcher(parseFeatureSet(args.one("feature-set", "dynamic_static")),
-                                       view, noise ? &*noise : nullptr);
+    if (!args.feature_noise.empty()) noise = readFeatureNoise(args.feature_noise);
+    const Matcher matcher =
+        db.matcher(parseFeatureSet(args.feature_set), view, noise ? &*noise : nullptr);
     std::map<std::int64_t, std::string> names;
     for (const Subject& s : db.subjects()) names[s.id] = s.info.name;
-    const std::vector<body_gait_model::BodyModel> models = readBodyModels(args.required("models"));
+    const std::vector<body_gait_model::BodyModel> models = readBodyModels(args.models);
     for (std::size_t i = 0; i < models.size(); ++i) {
       const Match m = matcher.identify(gaitFeatures(models[i], view));
       std::printf("pose %zu: subject %ld '%s', sequence %d, frame %d, score %.4f\n", i + 1,
@@ -167,13 +150,7 @@ int run(const Arguments& args) {
 
 int main(int argc, char** argv) {
   Arguments args;
-  try {
-    args = parse(argc, argv);
-  } catch (const std::invalid_argument& e) {
-    if (*e.what()) std::fprintf(stderr, "gait_gallery: %s\n\n", e.what());
-    std::fputs(kUsage, *e.what() ? stderr : stdout);
-    return *e.what() ? 2 : 0;
-  }
+  if (const auto status = parse(argc, argv, args)) return *status;
   try {
     return run(args);
   } catch (const std::exception& e) {

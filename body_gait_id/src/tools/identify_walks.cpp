@@ -11,6 +11,7 @@
 #include <body_gait_id/eval/cross_walk.h>
 #include <body_gait_id/models_file.h>
 #include <body_scan_driver/atomic_file.h>
+#include <body_scan_driver/tools/command_line.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cstdio>
@@ -19,19 +20,18 @@
 
 int main(int argc, char** argv) {
   using namespace body_gait_id;
+  CLI::App app(
+      "Cross-walk identification of people from their fitted walks (evaluate_body_fit --bvh ... "
+      "--models DIR writes them): every person needs 2 or more walks.",
+      "identify_walks");
   std::string out;
   std::vector<std::string> files;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--out" && i + 1 < argc)
-      out = argv[++i];
-    else
-      files.push_back(arg);
-  }
-  if (files.empty()) {
-    std::fprintf(stderr, "usage: identify_walks [--out report.yaml] WALK_MODELS.yaml [...]\n");
-    return 2;
-  }
+  app.add_option("--out", out, "YAML report");
+  app.add_option("WALK_MODELS.yaml", files, "one walk's 4 fitted poses s1..s4 per file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv))
+    return *status;
   std::vector<eval::WalkModels> walks;
   try {
     for (const std::string& file : files) {

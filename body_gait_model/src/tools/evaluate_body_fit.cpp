@@ -3,17 +3,17 @@
 // YAML report. Only this tool (and the tests) read ground truth; the fitter does not.
 //
 //   evaluate_body_fit [--subjects N] [--columns C] [--noise SIGMA_M] [--min-albedo A]
-//                     [--missing-viewpoints i,j,...] [--abduction-deg D] [--direct 1]
-//                     [--test-headings 1] [--per-joint 1] [--full-scanner 1]
+//                     [--missing-viewpoints i,j,...] [--abduction-deg D] [--direct]
+//                     [--test-headings] [--per-joint] [--full-scanner]
 //                     [--missing-pairs pole_c/pair_2,...] [--only SUBJECT]
 //                     [--clouds DIR] [--rig RIG.yaml] [--dark-albedo A] [--people N]
 //                     [--lean-deg D]
-//                     [--out report.yaml]
+//                     [--out report.yaml]        (all options: evaluate_body_fit --help)
 //
 // After the summary: per joint the mean error and mean offset (fitted - true) in the true body
 // frame (forward, left, up), per limb segment the mean absolute and signed length error.
-// --direct 1 skips the refinement; --test-headings 1 uses test_body_fitter's headings;
-// --per-joint 1 prints every fit's joint and segment errors. --full-scanner 1 scans each subject
+// --direct skips the refinement; --test-headings uses test_body_fitter's headings;
+// --per-joint prints every fit's joint and segment errors. --full-scanner scans each subject
 // with the simulated full scanner (the thesis rig's 12 pairs, as test_full_scanner_fit; headings
 // within +-46 deg of the rig's front) instead of the ray-cast sampler (--columns, --noise,
 // --min-albedo and --missing-viewpoints are the sampler's); --missing-pairs leaves pairs out;
@@ -41,6 +41,8 @@
 #include <body_gait_model/gait_poses_file.h>
 #include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/sim/bvh_body.h>
+#include <body_scan_driver/tools/command_line.h>
+#include <body_scan_driver/tools/package_file.h>
 #include <body_scan_merge/ply_writer.h>
 #include <yaml-cpp/yaml.h>
 
@@ -48,11 +50,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -60,25 +62,94 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-[[noreturn]] void usage(const std::string& problem) {
-  std::fprintf(
-      stderr,
-      "evaluate_body_fit: %s\nusage: evaluate_body_fit [--subjects N (>= 1)] [--columns "
-      "C (ray grid per viewpoint, >= 20)] [--noise SIGMA_M] [--min-albedo A] "
-      "[--missing-viewpoints i,j] [--abduction-deg D] [--direct 1] [--test-headings 1] "
-      "[--per-joint 1] [--full-scanner 1] [--missing-pairs id,id] [--only SUBJECT] "
-      "[--clouds DIR] [--rig RIG.yaml] [--people N] [--lean-deg D] [--bvh [PERSON=]WALK.bvh,...] "
-      "[--bvh-map MAP.yaml] "
-      "[--models DIR] [--out report.yaml]\n",
-      problem.c_str());
-  std::exit(2);
-}
+// The command line (see --help).
+struct Settings {
+  int subjects = 10;
+  int people = 0;  // > 0: simulatedPeople instead of simulatedSubjects
+  std::string out, only, clouds, models_out, picture, bvh_map;
+  double abduction_deg = -1;
+  double lean_deg = -100;  // > -90: every simulated body's forward torso lean (deg)
+  double dark_albedo = -1;
+  bool test_headings = false, per_joint = false, full_scanner = false;
+  std::vector<std::string> bvh_files;
+  body_gait_model::eval::FullScannerOptions scanner;
+  body_gait_model::FitOptions options;
+  body_gait_model::eval::ScanRig rig;
+};
 
-double number(const char* text, const std::string& flag) {
-  char* end = nullptr;
-  const double value = std::strtod(text, &end);
-  if (end == text || *end != '\0') usage(flag + " needs a number, got '" + text + "'");
-  return value;
+// Returns the exit status when the tool should stop (--help, a usage error).
+std::optional<int> parseSettings(int argc, char** argv, Settings& settings) {
+  namespace tools = body_scan_driver::tools;
+  CLI::App app(
+      "Fits simulated subjects (or motion-capture walks) in the four gait poses of thesis 5.3 "
+      "and compares each fit with the true skeleton: one line per fit, a summary, per-joint and "
+      "per-segment errors, a YAML report.",
+      "evaluate_body_fit");
+  settings.rig.noise_sigma = 0.002;
+  app.add_option("--subjects", settings.subjects, "simulatedSubjects(N)")
+      ->capture_default_str()
+      ->check(tools::atLeast(1));
+  app.add_option("--people", settings.people,
+                 "fit simulatedPeople(N) (survey-drawn bodies, personal gait styles; walk 0) "
+                 "instead of simulatedSubjects")
+      ->check(tools::atLeast(1));
+  int columns = 0;
+  app.add_option("--columns", columns,
+                 "sampler: ray grid per viewpoint (rows = 13/16 of it; default 320)")
+      ->check(tools::atLeast(20));
+  app.add_option("--noise", settings.rig.noise_sigma, "sampler: range noise SD (m)")
+      ->capture_default_str()
+      ->check(tools::atLeast(0));
+  app.add_option("--min-albedo", settings.rig.min_albedo,
+                 "sampler: surfaces darker than this return no light");
+  app.add_option("--missing-viewpoints", settings.rig.missing_viewpoints,
+                 "sampler: viewpoints without data, pole * 4 + height, e.g. 0,5")
+      ->delimiter(',');
+  app.add_option("--abduction-deg", settings.abduction_deg, "both shoulders' abduction (deg)");
+  app.add_option("--lean-deg", settings.lean_deg,
+                 "every simulated body's forward torso lean (deg; simulatedSubjects stand "
+                 "upright, simulatedPeople lean by their style)")
+      ->check(tools::inRange(-90, 90, true));
+  bool direct = false;
+  app.add_flag("--direct", direct, "skip the refinement");
+  app.add_flag("--test-headings", settings.test_headings, "test_body_fitter's headings");
+  app.add_flag("--per-joint", settings.per_joint, "print every fit's joint and segment errors");
+  app.add_flag("--full-scanner", settings.full_scanner,
+               "scan with the simulated full scanner (the thesis rig's 12 pairs) instead of the "
+               "ray-cast sampler");
+  app.add_option("--missing-pairs", settings.scanner.missing_pairs,
+                 "full scanner: pairs left out, e.g. pole_c/pair_2")
+      ->delimiter(',');
+  app.add_option("--rig", settings.scanner.rig_file, "full scanner: another rig file")
+      ->check(CLI::ExistingFile);
+  app.add_option("--dark-albedo", settings.dark_albedo,
+                 "albedo of the hair and the trunks (default 0.15; below ~0.05 the full scanner "
+                 "decodes little of them)");
+  app.add_option("--only", settings.only, "one subject, e.g. subject_9");
+  app.add_option("--clouds", settings.clouds,
+                 "write every case's cloud to DIR/<subject>_pose<k>.ply (world frame)");
+  app.add_option("--bvh", settings.bvh_files,
+                 "[PERSON=]WALK.bvh,...: motion-capture walks instead of simulated subjects "
+                 "(scanned with the full scanner; PERSON defaults to the file name up to its "
+                 "first '_')")
+      ->delimiter(',');
+  app.add_option("--bvh-map", settings.bvh_map,
+                 "BVH joint map (default: body_scan_driver's config/bvh/cmu_joint_map.yaml)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--models", settings.models_out,
+                 "write each walk's 4 fitted models to DIR/<walk>.yaml (identify_walks reads "
+                 "them)");
+  app.add_option("--picture", settings.picture,
+                 "PNG: every case's cloud from the side with the fitted (red) and true (green) "
+                 "joints");
+  app.add_option("--out", settings.out, "YAML report");
+  if (const auto status = tools::parseCommandLine(app, argc, argv)) return status;
+  if (columns > 0) {
+    settings.rig.columns = columns;
+    settings.rig.rows = columns * 13 / 16;
+  }
+  settings.options.refine = !direct;
+  return std::nullopt;
 }
 
 // One scan to fit: a body, its gait pose (1..4) and, for motion capture, where it came from.
@@ -162,142 +233,57 @@ cv::Mat sidePanel(const std::vector<Eigen::Vector3d>& points,
   return panel;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  int subjects = 10;
-  int people = 0;  // > 0: simulatedPeople instead of simulatedSubjects
-  std::string out;
-  double abduction_deg = -1;
-  double lean_deg = -100;  // > -90: every simulated body's forward torso lean (deg)
-  bool test_headings = false, per_joint = false, full_scanner = false;
-  body_gait_model::eval::FullScannerOptions scanner;
-  std::string only, clouds, models_out, picture;
-  std::vector<cv::Mat> panels;
-  std::string bvh_map = BODY_SCAN_DRIVER_CONFIG_DIR "/bvh/cmu_joint_map.yaml";
-  std::vector<std::string> bvh_files;
-  double dark_albedo = -1;
-  body_gait_model::FitOptions options;
-  body_gait_model::eval::ScanRig rig;
-  rig.noise_sigma = 0.002;
-  for (int i = 1; i < argc; ++i) {
-    const std::string flag = argv[i];
-    if (i + 1 >= argc) usage("missing value after " + flag);
-    const char* value = argv[++i];
-    if (flag == "--subjects") {
-      subjects = int(number(value, flag));
-    } else if (flag == "--people") {
-      people = int(number(value, flag));
-      if (people < 1) usage("--people must be >= 1");
-    } else if (flag == "--columns") {
-      rig.columns = int(number(value, flag));
-      rig.rows = rig.columns * 13 / 16;
-    } else if (flag == "--noise") {
-      rig.noise_sigma = number(value, flag);
-    } else if (flag == "--min-albedo") {
-      rig.min_albedo = number(value, flag);
-    } else if (flag == "--missing-viewpoints") {
-      std::stringstream list(value);
-      std::string item;
-      while (std::getline(list, item, ',')) rig.missing_viewpoints.push_back(std::stoi(item));
-    } else if (flag == "--abduction-deg") {
-      abduction_deg = number(value, flag);
-    } else if (flag == "--lean-deg") {
-      lean_deg = number(value, flag);
-      if (!(lean_deg > -90 && lean_deg < 90)) usage("--lean-deg must be within (-90, 90)");
-    } else if (flag == "--direct") {
-      options.refine = number(value, flag) == 0;
-    } else if (flag == "--per-joint") {
-      per_joint = number(value, flag) != 0;
-    } else if (flag == "--test-headings") {
-      test_headings = number(value, flag) != 0;
-    } else if (flag == "--full-scanner") {
-      full_scanner = number(value, flag) != 0;
-    } else if (flag == "--missing-pairs") {
-      std::stringstream list(value);
-      for (std::string id; std::getline(list, id, ',');) scanner.missing_pairs.push_back(id);
-    } else if (flag == "--dark-albedo") {
-      dark_albedo = number(value, flag);
-    } else if (flag == "--rig") {
-      scanner.rig_file = value;
-    } else if (flag == "--only") {
-      only = value;
-    } else if (flag == "--clouds") {
-      clouds = value;
-    } else if (flag == "--bvh") {
-      std::stringstream list(value);
-      for (std::string file; std::getline(list, file, ',');) bvh_files.push_back(file);
-    } else if (flag == "--bvh-map") {
-      bvh_map = value;
-    } else if (flag == "--picture") {
-      picture = value;
-    } else if (flag == "--models") {
-      models_out = value;
-    } else if (flag == "--out") {
-      out = value;
-    } else {
-      usage("unknown option " + flag);
-    }
-  }
-  if (subjects < 1 || rig.columns < 20) usage("--subjects must be >= 1 and --columns >= 20");
-  // Simulated bodies: simulatedSubjects (the fit figures' subjects) or simulatedPeople.
+// The simulated cases: every body x the 4 poses (simulatedSubjects, or simulatedPeople's walk 0).
+// Returns nullopt after a usage error (an unknown --only).
+std::optional<std::vector<Case>> simulatedCases(Settings& settings) {
   std::vector<body_scan_driver::sim::HumanBodySpec> bodies;
   std::vector<body_gait_model::eval::SimulatedPerson> persons;
-  if (people > 0) {
-    persons = body_gait_model::eval::simulatedPeople(people);
+  if (settings.people > 0) {
+    persons = body_gait_model::eval::simulatedPeople(settings.people);
     for (const auto& person : persons) {
       bodies.emplace_back();
       bodies.back().name = person.name;
     }
-    subjects = people;
+    settings.subjects = settings.people;
   } else {
-    bodies = body_gait_model::eval::simulatedSubjects(subjects);
+    bodies = body_gait_model::eval::simulatedSubjects(settings.subjects);
   }
-  if (!only.empty() && bvh_files.empty()) {
+  if (!settings.only.empty()) {
     bool known = false;
-    for (const auto& body : bodies) known = known || body.name == only;
-    if (!known)
-      usage("--only " + only + ": no such subject among " + bodies.front().name + " .. " +
-            bodies.back().name);
-  }
-
-  // The cases: simulated subjects x the 4 poses, or the 4 picked poses of every BVH walk.
-  std::vector<Case> all_cases;
-  if (!bvh_files.empty()) {
-    full_scanner = true;  // real motion is judged on the product's clouds
-    try {
-      all_cases = bvhCases(bvh_files, bvh_map);
-    } catch (const std::exception& error) {
-      std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
-      return 1;
+    for (const auto& body : bodies) known = known || body.name == settings.only;
+    if (!known) {
+      std::fprintf(stderr, "evaluate_body_fit: --only %s: no such subject among %s .. %s\n",
+                   settings.only.c_str(), bodies.front().name.c_str(), bodies.back().name.c_str());
+      return std::nullopt;
     }
-    subjects = int(bvh_files.size());
-  } else {
-    int index = 0;
-    for (size_t k = 0; k < bodies.size(); ++k) {
-      for (int pose = 1; pose <= 4; ++pose, ++index) {
-        Case c;
-        c.pose = pose;
-        const double heading = full_scanner ? body_gait_model::eval::fullScannerHeading(index)
-                                            : 0.3 + 1.7 * (test_headings ? pose : pose + index);
-        if (people > 0) {
-          c.spec = body_gait_model::eval::walkingSubject(persons[k], pose, 0, heading);
-        } else {
-          c.spec = bodies[k];
-          c.spec.pose = body_gait_model::eval::gaitPose(pose, heading);
-        }
-        if (abduction_deg >= 0)
-          c.spec.pose.left_shoulder_abduction = c.spec.pose.right_shoulder_abduction =
-              abduction_deg * kPi / 180;
-        if (lean_deg > -90) c.spec.pose.torso_lean = lean_deg * kPi / 180;
-        all_cases.push_back(c);
+  }
+  std::vector<Case> cases;
+  int index = 0;
+  for (size_t k = 0; k < bodies.size(); ++k) {
+    for (int pose = 1; pose <= 4; ++pose, ++index) {
+      Case c;
+      c.pose = pose;
+      const double heading = settings.full_scanner
+                                 ? body_gait_model::eval::fullScannerHeading(index)
+                                 : 0.3 + 1.7 * (settings.test_headings ? pose : pose + index);
+      if (settings.people > 0) {
+        c.spec = body_gait_model::eval::walkingSubject(persons[k], pose, 0, heading);
+      } else {
+        c.spec = bodies[k];
+        c.spec.pose = body_gait_model::eval::gaitPose(pose, heading);
       }
+      if (settings.abduction_deg >= 0)
+        c.spec.pose.left_shoulder_abduction = c.spec.pose.right_shoulder_abduction =
+            settings.abduction_deg * kPi / 180;
+      if (settings.lean_deg > -90) c.spec.pose.torso_lean = settings.lean_deg * kPi / 180;
+      cases.push_back(c);
     }
   }
+  return cases;
+}
 
-  std::ostringstream yaml;
-  std::map<std::string, YAML::Node> walk_models;  // walk -> its models file
-  yaml << "cases:\n";
+// Sums over the fits, for the summary.
+struct Totals {
   double joint = 0, length = 0, swing = 0, seconds = 0, points = 0;
   int cases = 0, right = 0, low_quality = 0;
   struct JointStats {
@@ -306,163 +292,197 @@ int main(int argc, char** argv) {
   };
   std::map<std::string, JointStats> joint_stats;
   std::map<std::string, std::pair<double, double>> segment_stats;  // |error|, signed error
-  for (const Case& each : all_cases) {
-    if (!only.empty() && each.spec.name != only) continue;
-    auto spec = each.spec;
-    const int pose = each.pose;
-    if (dark_albedo >= 0) spec.materials.hair.albedo = spec.materials.clothing.albedo = dark_albedo;
-    body_gait_model::eval::SampledBody body;
-    try {
-      body = full_scanner ? body_gait_model::eval::scanBodyWithFullScanner(spec, scanner)
-                          : body_gait_model::eval::sampleBody(spec, rig);
-    } catch (const std::exception& error) {
-      std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
-      return 1;
-    }
-    if (!clouds.empty()) {
-      std::vector<float> xyz;
-      for (const Eigen::Vector3d& p : body.points)
-        xyz.insert(xyz.end(), {float(p.x()), float(p.y()), float(p.z())});
-      const std::string path = clouds + "/" + spec.name + "_pose" + std::to_string(pose) + ".ply";
-      try {
-        body_scan_merge::writePly(path, xyz.data(), body.points.size(), 3, -1);
-      } catch (const std::exception& error) {
-        std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
-        return 1;
-      }
-    }
-    const auto start = std::chrono::steady_clock::now();
-    const body_gait_model::BodyFit fit = body_gait_model::fitBody(body.points, options);
-    const double fit_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const auto errors = body_gait_model::eval::compareWithTruth(fit.model, body);
-    if (!picture.empty()) {
-      std::ostringstream title;
-      title << spec.name << " pose " << pose;
-      if (each.frame >= 0) title << " (frame " << each.frame + 1 << ")";
-      title << ": " << std::lround(1000 * errors.mean_joint_error) << " mm";
-      panels.push_back(sidePanel(body.points, body_gait_model::forwardKinematics(fit.model),
-                                 body.skeleton, title.str()));
-    }
-    const bool heading_right = errors.front_right && errors.left_right;
-    std::printf(
-        "%s pose %d: %zu points, joint %.1f mm, length %.1f %%, swing %.2f deg, "
-        "front/left %s, RMS %.1f mm, explained %.0f %%%s, %.0f ms\n",
-        (spec.name + (each.frame >= 0 ? " frame " + std::to_string(each.frame + 1) : "")).c_str(),
-        pose, body.points.size(), 1000 * errors.mean_joint_error, 100 * errors.mean_length_error,
-        errors.mean_swing_error * 180 / kPi, heading_right ? "right" : "WRONG",
-        1000 * fit.quality.rms_distance, 100 * fit.quality.explained_fraction,
-        fit.quality.low_quality ? ", LOW QUALITY" : "", 1000 * fit_seconds);
-    yaml << "  - {subject: " << spec.name << ", pose: " << pose
-         << ", points: " << body.points.size() << ", joint_error_m: " << errors.mean_joint_error
-         << ", length_error: " << errors.mean_length_error
-         << ", swing_error_rad: " << errors.mean_swing_error
-         << ", heading_right: " << (heading_right ? "true" : "false")
-         << ", rms_m: " << fit.quality.rms_distance
-         << ", explained: " << fit.quality.explained_fraction
-         << ", low_quality: " << (fit.quality.low_quality ? "true" : "false")
-         << ", fit_seconds: " << fit_seconds;
-    if (each.frame >= 0) yaml << ", person: '" << each.person << "', frame: " << each.frame + 1;
-    yaml << "}\n";
-    if (each.frame >= 0) {
-      YAML::Node& file = walk_models[each.walk];
-      if (!file["walk"]) {
-        file["person"] = each.person;
-        file["walk"] = each.walk;
-      }
-      YAML::Node pose_node = body_gait_model::bodyModelToYaml(fit.model);
-      pose_node["frame"] = each.frame + 1;
-      pose_node["low_quality"] = fit.quality.low_quality;
-      file["poses"].push_back(pose_node);
-    }
-    if (per_joint) {
-      for (const auto& [name, error] : errors.joint_error)
-        std::printf("    %-15s %6.1f mm (%+6.1f %+6.1f %+6.1f)\n", name.c_str(), 1000 * error,
-                    1000 * errors.joint_offset.at(name).x(),
-                    1000 * errors.joint_offset.at(name).y(),
-                    1000 * errors.joint_offset.at(name).z());
-      for (const auto& [name, bias] : errors.segment_length_bias)
-        std::printf("    %-15s %+6.1f %%\n", name.c_str(), 100 * bias);
-    }
-    for (const auto& [name, error] : errors.joint_error) {
-      joint_stats[name].error += error;
-      joint_stats[name].offset += errors.joint_offset.at(name);
-    }
-    for (const auto& [name, bias] : errors.segment_length_bias) {
-      segment_stats[name].first += std::abs(bias);
-      segment_stats[name].second += bias;
-    }
-    joint += errors.mean_joint_error;
-    length += errors.mean_length_error;
-    swing += errors.mean_swing_error;
-    seconds += fit_seconds;
-    points += double(body.points.size());
-    right += heading_right;
-    low_quality += fit.quality.low_quality;
-    ++cases;
+};
+
+// What the run writes besides stdout.
+struct Outputs {
+  std::ostringstream yaml;
+  std::map<std::string, YAML::Node> walk_models;  // walk -> its models file
+  std::vector<cv::Mat> panels;
+};
+
+// Scans and fits one case, prints its line and adds it to the totals and the outputs. Throws
+// when the scan or its cloud file fails.
+void evaluateCase(const Case& each, const Settings& settings, Totals& totals, Outputs& outputs) {
+  auto spec = each.spec;
+  const int pose = each.pose;
+  if (settings.dark_albedo >= 0)
+    spec.materials.hair.albedo = spec.materials.clothing.albedo = settings.dark_albedo;
+  const body_gait_model::eval::SampledBody body =
+      settings.full_scanner ? body_gait_model::eval::scanBodyWithFullScanner(spec, settings.scanner)
+                            : body_gait_model::eval::sampleBody(spec, settings.rig);
+  if (!settings.clouds.empty()) {
+    std::vector<float> xyz;
+    for (const Eigen::Vector3d& p : body.points)
+      xyz.insert(xyz.end(), {float(p.x()), float(p.y()), float(p.z())});
+    const std::string path =
+        settings.clouds + "/" + spec.name + "_pose" + std::to_string(pose) + ".ply";
+    body_scan_merge::writePly(path, xyz.data(), body.points.size(), 3, -1);
   }
+  const auto start = std::chrono::steady_clock::now();
+  const body_gait_model::BodyFit fit = body_gait_model::fitBody(body.points, settings.options);
+  const double fit_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto errors = body_gait_model::eval::compareWithTruth(fit.model, body);
+  if (!settings.picture.empty()) {
+    std::ostringstream title;
+    title << spec.name << " pose " << pose;
+    if (each.frame >= 0) title << " (frame " << each.frame + 1 << ")";
+    title << ": " << std::lround(1000 * errors.mean_joint_error) << " mm";
+    outputs.panels.push_back(sidePanel(body.points, body_gait_model::forwardKinematics(fit.model),
+                                       body.skeleton, title.str()));
+  }
+  const bool heading_right = errors.front_right && errors.left_right;
+  std::printf(
+      "%s pose %d: %zu points, joint %.1f mm, length %.1f %%, swing %.2f deg, "
+      "front/left %s, RMS %.1f mm, explained %.0f %%%s, %.0f ms\n",
+      (spec.name + (each.frame >= 0 ? " frame " + std::to_string(each.frame + 1) : "")).c_str(),
+      pose, body.points.size(), 1000 * errors.mean_joint_error, 100 * errors.mean_length_error,
+      errors.mean_swing_error * 180 / kPi, heading_right ? "right" : "WRONG",
+      1000 * fit.quality.rms_distance, 100 * fit.quality.explained_fraction,
+      fit.quality.low_quality ? ", LOW QUALITY" : "", 1000 * fit_seconds);
+  std::ostringstream& yaml = outputs.yaml;
+  yaml << "  - {subject: " << spec.name << ", pose: " << pose << ", points: " << body.points.size()
+       << ", joint_error_m: " << errors.mean_joint_error
+       << ", length_error: " << errors.mean_length_error
+       << ", swing_error_rad: " << errors.mean_swing_error
+       << ", heading_right: " << (heading_right ? "true" : "false")
+       << ", rms_m: " << fit.quality.rms_distance
+       << ", explained: " << fit.quality.explained_fraction
+       << ", low_quality: " << (fit.quality.low_quality ? "true" : "false")
+       << ", fit_seconds: " << fit_seconds;
+  if (each.frame >= 0) yaml << ", person: '" << each.person << "', frame: " << each.frame + 1;
+  yaml << "}\n";
+  if (each.frame >= 0) {
+    YAML::Node& file = outputs.walk_models[each.walk];
+    if (!file["walk"]) {
+      file["person"] = each.person;
+      file["walk"] = each.walk;
+    }
+    YAML::Node pose_node = body_gait_model::bodyModelToYaml(fit.model);
+    pose_node["frame"] = each.frame + 1;
+    pose_node["low_quality"] = fit.quality.low_quality;
+    file["poses"].push_back(pose_node);
+  }
+  if (settings.per_joint) {
+    for (const auto& [name, error] : errors.joint_error)
+      std::printf("    %-15s %6.1f mm (%+6.1f %+6.1f %+6.1f)\n", name.c_str(), 1000 * error,
+                  1000 * errors.joint_offset.at(name).x(), 1000 * errors.joint_offset.at(name).y(),
+                  1000 * errors.joint_offset.at(name).z());
+    for (const auto& [name, bias] : errors.segment_length_bias)
+      std::printf("    %-15s %+6.1f %%\n", name.c_str(), 100 * bias);
+  }
+  for (const auto& [name, error] : errors.joint_error) {
+    totals.joint_stats[name].error += error;
+    totals.joint_stats[name].offset += errors.joint_offset.at(name);
+  }
+  for (const auto& [name, bias] : errors.segment_length_bias) {
+    totals.segment_stats[name].first += std::abs(bias);
+    totals.segment_stats[name].second += bias;
+  }
+  totals.joint += errors.mean_joint_error;
+  totals.length += errors.mean_length_error;
+  totals.swing += errors.mean_swing_error;
+  totals.seconds += fit_seconds;
+  totals.points += double(body.points.size());
+  totals.right += heading_right;
+  totals.low_quality += fit.quality.low_quality;
+  ++totals.cases;
+}
+
+// The summary line, the per-joint and per-segment tables, and their YAML.
+void summarize(const Totals& totals, int subjects, std::ostringstream& yaml) {
+  const int cases = totals.cases;
   std::printf(
       "SUMMARY %d fits (%d subjects or walks x 4 poses, mean %.0f points): mean joint-centre error "
       "%.1f mm, segment-length error %.1f %%, swing-angle error %.2f deg, front/left right "
       "%d/%d, low quality %d, %.0f ms per fit\n",
-      cases, subjects, points / cases, 1000 * joint / cases, 100 * length / cases,
-      swing / cases * 180 / kPi, right, cases, low_quality, 1000 * seconds / cases);
+      cases, subjects, totals.points / cases, 1000 * totals.joint / cases,
+      100 * totals.length / cases, totals.swing / cases * 180 / kPi, totals.right, cases,
+      totals.low_quality, 1000 * totals.seconds / cases);
   std::printf("%-16s %9s %28s\n", "joint", "error mm", "offset fwd/left/up mm");
-  for (const auto& [name, stats] : joint_stats)
+  for (const auto& [name, stats] : totals.joint_stats)
     std::printf("%-16s %9.1f %9.1f %8.1f %8.1f\n", name.c_str(), 1000 * stats.error / cases,
                 1000 * stats.offset.x() / cases, 1000 * stats.offset.y() / cases,
                 1000 * stats.offset.z() / cases);
   std::printf("%-16s %9s %9s\n", "segment", "|error| %", "signed %");
-  for (const auto& [name, stats] : segment_stats)
+  for (const auto& [name, stats] : totals.segment_stats)
     std::printf("%-16s %9.1f %9.1f\n", name.c_str(), 100 * stats.first / cases,
                 100 * stats.second / cases);
   yaml << "joints:\n";
-  for (const auto& [name, stats] : joint_stats)
+  for (const auto& [name, stats] : totals.joint_stats)
     yaml << "  " << name << ": {error_m: " << stats.error / cases << ", offset_forward_left_up_m: ["
          << stats.offset.x() / cases << ", " << stats.offset.y() / cases << ", "
          << stats.offset.z() / cases << "]}\n";
   yaml << "segments:\n";
-  for (const auto& [name, stats] : segment_stats)
+  for (const auto& [name, stats] : totals.segment_stats)
     yaml << "  " << name << ": {length_error: " << stats.first / cases
          << ", signed_length_error: " << stats.second / cases << "}\n";
-  yaml << "summary: {fits: " << cases << ", mean_points: " << points / cases
-       << ", mean_joint_error_m: " << joint / cases << ", mean_length_error: " << length / cases
-       << ", mean_swing_error_rad: " << swing / cases << ", heading_right: " << right
-       << ", low_quality: " << low_quality << ", mean_fit_seconds: " << seconds / cases << "}\n";
-  if (!picture.empty() && !panels.empty()) {
+  yaml << "summary: {fits: " << cases << ", mean_points: " << totals.points / cases
+       << ", mean_joint_error_m: " << totals.joint / cases
+       << ", mean_length_error: " << totals.length / cases
+       << ", mean_swing_error_rad: " << totals.swing / cases << ", heading_right: " << totals.right
+       << ", low_quality: " << totals.low_quality
+       << ", mean_fit_seconds: " << totals.seconds / cases << "}\n";
+}
+
+// --picture, --models and --out. Throws when a file cannot be written.
+void writeOutputs(const Settings& settings, const Outputs& outputs) {
+  if (!settings.picture.empty() && !outputs.panels.empty()) {
     cv::Mat row;
-    cv::hconcat(panels, row);
-    if (!cv::imwrite(picture, row)) {
-      std::fprintf(stderr, "evaluate_body_fit: cannot write the picture '%s'\n", picture.c_str());
-      return 1;
+    cv::hconcat(outputs.panels, row);
+    if (!cv::imwrite(settings.picture, row))
+      throw std::runtime_error("cannot write the picture '" + settings.picture + "'");
+  }
+  if (!settings.models_out.empty()) {
+    std::filesystem::create_directories(settings.models_out);
+    for (const auto& [walk, node] : outputs.walk_models) {
+      YAML::Emitter text;
+      text.SetDoublePrecision(17);
+      text << node;
+      body_scan_driver::writeFileAtomically(
+          settings.models_out + "/" + walk + ".yaml",
+          "# Fitted body models of walk " + walk +
+              " (evaluate_body_fit --bvh --models): the 4 poses of\n# thesis 5.3 in order "
+              "s1..s4 (body_gait_model/gait_poses_file.h, with the frame and fit quality).\n" +
+              text.c_str() + "\n");
     }
   }
-  if (!models_out.empty()) {
-    try {
-      std::filesystem::create_directories(models_out);
-      for (const auto& [walk, node] : walk_models) {
-        YAML::Emitter text;
-        text.SetDoublePrecision(17);
-        text << node;
-        body_scan_driver::writeFileAtomically(
-            models_out + "/" + walk + ".yaml",
-            "# Fitted body models of walk " + walk +
-                " (evaluate_body_fit --bvh --models): the 4 poses of\n# thesis 5.3 in order "
-                "s1..s4 (body_gait_model/gait_poses_file.h, with the frame and fit quality).\n" +
-                text.c_str() + "\n");
-      }
-    } catch (const std::exception& error) {
-      std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
-      return 1;
+  if (!settings.out.empty())
+    body_scan_driver::writeFileAtomically(settings.out, outputs.yaml.str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Settings settings;
+  if (const auto status = parseSettings(argc, argv, settings)) return *status;
+  try {
+    // The cases: simulated subjects x the 4 poses, or the 4 picked poses of every BVH walk.
+    std::vector<Case> cases;
+    if (settings.bvh_files.empty()) {
+      std::optional<std::vector<Case>> simulated = simulatedCases(settings);
+      if (!simulated) return 2;
+      cases = std::move(*simulated);
+    } else {
+      settings.full_scanner = true;  // real motion is judged on the product's clouds
+      if (settings.bvh_map.empty())
+        settings.bvh_map = body_scan_driver::tools::packageFile(
+            "body_scan_driver", "config/bvh/cmu_joint_map.yaml", "--bvh-map");
+      cases = bvhCases(settings.bvh_files, settings.bvh_map);
+      settings.subjects = int(settings.bvh_files.size());
     }
-  }
-  if (!out.empty()) {
-    try {
-      body_scan_driver::writeFileAtomically(out, yaml.str());
-    } catch (const std::exception& error) {
-      std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
-      return 1;
-    }
+    Totals totals;
+    Outputs outputs;
+    outputs.yaml << "cases:\n";
+    for (const Case& each : cases)
+      if (settings.only.empty() || each.spec.name == settings.only)
+        evaluateCase(each, settings, totals, outputs);
+    summarize(totals, settings.subjects, outputs.yaml);
+    writeOutputs(settings, outputs);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());
+    return 1;
   }
   return 0;
 }

@@ -5,6 +5,8 @@
 // One line per walk: the 1-based frame numbers (as in the file) and times of poses 1-4, the
 // walking speed, the stride at pose 1 and the stature the legs imply (girths follow it).
 #include <body_scan_driver/sim/bvh_body.h>
+#include <body_scan_driver/tools/command_line.h>
+#include <body_scan_driver/tools/package_file.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -13,26 +15,21 @@
 
 int main(int argc, char** argv) {
   using namespace body_scan_driver::sim;
-  std::string map_path = BODY_SCAN_DRIVER_CONFIG_DIR "/bvh/cmu_joint_map.yaml";
+  CLI::App app("Prints the four representative poses of thesis 5.3 found in BVH walks.",
+               "bvh_gait_poses");
+  std::string map_path;
   std::vector<std::string> files;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--map" && i + 1 < argc) {
-      map_path = argv[++i];
-    } else if (arg.rfind("--", 0) == 0) {
-      std::fprintf(stderr, "bvh_gait_poses: unknown option %s\n", arg.c_str());
-      files.clear();
-      break;
-    } else {
-      files.push_back(arg);
-    }
-  }
-  if (files.empty()) {
-    std::fprintf(stderr, "usage: bvh_gait_poses [--map JOINT_MAP.yaml] WALK.bvh [WALK.bvh ...]\n");
-    return 2;
-  }
+  app.add_option("--map", map_path,
+                 "BVH joint map (default: body_scan_driver's config/bvh/cmu_joint_map.yaml)")
+      ->check(CLI::ExistingFile);
+  app.add_option("WALK.bvh", files, "motion-capture walks")->required();
+  if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv))
+    return *status;
   int failures = 0;
   try {
+    if (map_path.empty())
+      map_path = body_scan_driver::tools::packageFile("body_scan_driver",
+                                                      "config/bvh/cmu_joint_map.yaml", "--map");
     const BvhJointMap map = loadBvhJointMap(map_path);
     std::printf("%-8s %6s %-29s %-33s %9s %9s %9s\n", "walk", "frames",
                 "pose frames 1 2 3 4 (1-based)", "times s", "speed m/s", "stride m", "stature m");

@@ -1,17 +1,18 @@
 // Lists the attached USB devices, so a pair can be configured with the right vendor:product
 // and serial:   rosrun body_scan_driver list_devices [--uvc]
 #include <body_scan_driver/hw/usb_bus.h>
+#include <body_scan_driver/tools/command_line.h>
 
 #include <cstdio>
-#include <cstring>
 #include <exception>
 
 int main(int argc, char** argv) {
-  const bool only_uvc = argc > 1 && std::strcmp(argv[1], "--uvc") == 0;
-  if (argc > 1 && !only_uvc) {
-    std::fprintf(stderr, "usage: list_devices [--uvc]   (--uvc: cameras only)\n");
-    return 2;
-  }
+  CLI::App app("Lists the attached USB devices (vendor:product, serial, bus/address, UVC).",
+               "list_devices");
+  bool only_uvc = false;
+  app.add_flag("--uvc", only_uvc, "cameras only (devices with a UVC interface)");
+  if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv))
+    return *status;
   try {
     const auto bus = body_scan_driver::hw::makeLibusbBus();
     const auto devices = bus->devices();

@@ -8,56 +8,53 @@
 #include <body_scan_driver/hw/pattern_sequencer.h>
 #include <body_scan_driver/hw/projector_window.h>
 #include <body_scan_driver/hw/uvc_camera.h>
+#include <body_scan_driver/tools/command_line.h>
 
 #include <algorithm>
 #include <cstdio>
-#include <cstring>
 #include <exception>
 #include <string>
 
 using namespace body_scan_driver::hw;
 
 int main(int argc, char** argv) {
-  if (argc < 2 || std::strcmp(argv[1], "--help") == 0) {
-    std::fprintf(stderr,
-                 "usage: measure_projector_latency VID:PID [SERIAL] [--display :0] [--screen N]\n"
-                 "       [--width W] [--height H] [--fps F] [--format yuyv|mjpeg]\n"
-                 "       [--exposure-ms E] [--max-frames N] [--repeat N]\n"
-                 "VID:PID and SERIAL of the camera: rosrun body_scan_driver list_devices --uvc\n");
-    return 2;
-  }
+  CLI::App app(
+      "Measures a pair's projector latency in camera frames, the value for settle_frames: shows "
+      "black, then a full-screen white flash, and counts the camera frames that still show black.",
+      "measure_projector_latency");
+  std::string camera_id, serial, display;
+  int screen = -1, max_frames = 15, repeat = 5;
+  UvcSettings settings;
+  app.add_option("VID:PID", camera_id,
+                 "the camera's vendor:product in hex (rosrun body_scan_driver list_devices --uvc)")
+      ->required();
+  app.add_option("SERIAL", serial, "the camera's serial, when several are attached");
+  app.add_option("--display", display, "X display of the projector, e.g. :0 (default: $DISPLAY)");
+  app.add_option("--screen", screen, "screen of the projector (default: the display's)");
+  app.add_option("--width", settings.width, "camera image width")
+      ->capture_default_str()
+      ->check(body_scan_driver::tools::positive());
+  app.add_option("--height", settings.height, "camera image height")
+      ->capture_default_str()
+      ->check(body_scan_driver::tools::positive());
+  app.add_option("--fps", settings.fps, "camera frame rate")
+      ->capture_default_str()
+      ->check(body_scan_driver::tools::positive());
+  app.add_option("--format", settings.format, "camera pixel format")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"yuyv", "mjpeg"}));
+  app.add_option("--exposure-ms", settings.exposure_ms, "camera exposure time (ms)")
+      ->capture_default_str();
+  app.add_option("--max-frames", max_frames, "frames to wait for the flash")
+      ->capture_default_str()
+      ->check(body_scan_driver::tools::positive());
+  app.add_option("--repeat", repeat, "flashes; use the largest count (+1) as settle_frames")
+      ->capture_default_str()
+      ->check(body_scan_driver::tools::positive());
+  if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv))
+    return *status;
   try {
-    std::string serial, display;
-    int screen = -1, max_frames = 15, repeat = 5;
-    UvcSettings settings;
-    int i = 2;
-    if (i < argc && argv[i][0] != '-') serial = argv[i++];
-    for (; i < argc; ++i) {
-      const std::string flag = argv[i];
-      if (i + 1 >= argc) throw std::invalid_argument("option " + flag + " needs a value");
-      const std::string value = argv[++i];
-      if (flag == "--display")
-        display = value;
-      else if (flag == "--screen")
-        screen = std::stoi(value);
-      else if (flag == "--width")
-        settings.width = std::stoi(value);
-      else if (flag == "--height")
-        settings.height = std::stoi(value);
-      else if (flag == "--fps")
-        settings.fps = std::stoi(value);
-      else if (flag == "--format")
-        settings.format = value;
-      else if (flag == "--exposure-ms")
-        settings.exposure_ms = std::stod(value);
-      else if (flag == "--max-frames")
-        max_frames = std::stoi(value);
-      else if (flag == "--repeat")
-        repeat = std::stoi(value);
-      else
-        throw std::invalid_argument("unknown option " + flag + " (see --help)");
-    }
-    UvcCamera camera(UsbDeviceMatch::parse(argv[1], serial), settings);
+    UvcCamera camera(UsbDeviceMatch::parse(camera_id, serial), settings);
     ProjectorWindow projector(display, screen);
     camera.startStreaming();
     int worst = 0;

@@ -3,48 +3,31 @@
 // Prints the mean distance, the coverage of the body (soles excluded) and of the regions under
 // the chin, the armpits, the groin and the sides of the torso; writes them as YAML, and the
 // points farther than 20 mm from every true surface as a PLY (--outliers) to look at.
+#include <body_scan_driver/tools/command_line.h>
 #include <body_scan_merge/eval/scan_accuracy.h>
 #include <body_scan_merge/ply_writer.h>
 
 #include <cstdio>
-#include <cstring>
 #include <iostream>
 #include <string>
 
-namespace {
-constexpr const char* kUsage =
-    "usage: evaluate_scan --cloud CLOUD.ply --scene SCENE.yaml [--report REPORT.yaml] "
-    "[--outliers OUTLIERS.ply]\n";
-}  // namespace
-
 int main(int argc, char** argv) {
+  CLI::App app(
+      "Accuracy of a scanned cloud against the simulator's true surface: mean distance, coverage "
+      "of the body and of the hard regions (YAML); the points farther than 20 mm from every true "
+      "surface as a PLY.",
+      "evaluate_scan");
   std::string cloud_path, scene_path, report_path, outliers_path;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
-    try {
-      if (arg == "--cloud")
-        cloud_path = value();
-      else if (arg == "--scene")
-        scene_path = value();
-      else if (arg == "--report")
-        report_path = value();
-      else if (arg == "--outliers")
-        outliers_path = value();
-      else
-        throw std::invalid_argument("unknown argument " + arg);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "%s\n%s", e.what(), kUsage);
-      return 2;
-    }
-  }
-  if (cloud_path.empty() || scene_path.empty()) {
-    std::fprintf(stderr, "%s", kUsage);
-    return 2;
-  }
+  app.add_option("--cloud", cloud_path, "scanned cloud (PLY)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--scene", scene_path, "the simulator's scene file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--report", report_path, "also write the accuracy as YAML");
+  app.add_option("--outliers", outliers_path, "write the outliers (> 20 mm) as PLY");
+  if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv))
+    return *status;
   try {
     const std::vector<float> cloud = body_scan_merge::readPly(cloud_path);
     const body_scan_driver::sim::Scene scene = body_scan_driver::sim::loadScene(scene_path);

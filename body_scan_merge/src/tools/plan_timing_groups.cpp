@@ -4,11 +4,11 @@
 #include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/rig_layout.h>
+#include <body_scan_driver/tools/command_line.h>
 #include <body_scan_merge/timing_groups.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -17,20 +17,6 @@ using namespace body_scan_merge;
 using namespace body_scan_driver;
 
 namespace {
-
-const char* kUsage = R"(usage: plan_timing_groups --calibration-dir DIR --rig RIG.yaml [options]
-Computes the timing groups of a rig: pairs whose light reaches another pair's view never share
-a group, with as few groups as possible (an exact minimum colouring of the conflict graph).
-  --calibration-dir DIR   pair calibrations <pole>_<pair><suffix>.yaml (required)
-  --suffix S              file name suffix, e.g. _factory (default: none)
-  --rig FILE              rig file: the pair ids and, for files without a world_alignment
-                          section, the pair poses (required)
-  --group-seconds T       acquisition time of one group (default 0.5, thesis sec. 4.2.4)
-  --light-margin M        grow each sweep M metres beyond its first and last calibrated
-                          stripe planes (default 0.02)
-  --min-overlap-area A    m^2 of lit-and-seen proxy surface tolerated (default 0)
-  --report FILE           also write the plan as YAML (atomically)
-)";
 
 std::string fileStem(const std::string& pair_id) {
   std::string stem = pair_id;
@@ -41,44 +27,40 @@ std::string fileStem(const std::string& pair_id) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app(
+      "Computes the timing groups of a calibrated rig: pairs whose light reaches another pair's "
+      "view never share a group, with as few groups as possible (an exact minimum colouring of "
+      "the conflict graph).",
+      "plan_timing_groups");
   std::string calibration_dir, suffix, rig_path, report;
   double group_seconds = 0.5;
   InterferenceProxy proxy;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::cerr << "plan_timing_groups: " << arg << " needs a value\n" << kUsage;
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (arg == "--calibration-dir")
-      calibration_dir = value();
-    else if (arg == "--suffix")
-      suffix = value();
-    else if (arg == "--rig")
-      rig_path = value();
-    else if (arg == "--report")
-      report = value();
-    else if (arg == "--group-seconds")
-      group_seconds = std::atof(value().c_str());
-    else if (arg == "--light-margin")
-      proxy.light_margin = std::atof(value().c_str());
-    else if (arg == "--min-overlap-area")
-      proxy.min_overlap_area = std::atof(value().c_str());
-    else if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
-      return 0;
-    } else {
-      std::cerr << "plan_timing_groups: unknown option '" << arg << "'\n" << kUsage;
-      return 2;
-    }
-  }
-  if (calibration_dir.empty() || rig_path.empty()) {
-    std::cerr << "plan_timing_groups: --calibration-dir and --rig are required\n" << kUsage;
-    return 2;
-  }
+  app.add_option("--calibration-dir", calibration_dir,
+                 "pair calibrations <pole>_<pair><suffix>.yaml")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--suffix", suffix, "file name suffix, e.g. _factory (default: none)");
+  app.add_option("--rig", rig_path,
+                 "rig file: the pair ids and, for files without a world_alignment section, the "
+                 "pair poses")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--group-seconds", group_seconds,
+                 "acquisition time of one group (thesis sec. 4.2.4)")
+      ->capture_default_str()
+      ->check(body_scan_driver::tools::positive());
+  app.add_option("--light-margin", proxy.light_margin,
+                 "grow each sweep this many metres beyond its first and last calibrated stripe "
+                 "planes")
+      ->capture_default_str()
+      ->check(body_scan_driver::tools::atLeast(0));
+  app.add_option("--min-overlap-area", proxy.min_overlap_area,
+                 "m^2 of lit-and-seen proxy surface tolerated")
+      ->capture_default_str()
+      ->check(body_scan_driver::tools::atLeast(0));
+  app.add_option("--report", report, "also write the plan as YAML (atomically)");
+  if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv))
+    return *status;
   try {
     const body_scan_driver::RigLayout rig = body_scan_driver::loadRigLayout(rig_path);
     std::vector<PairGeometry> pairs;
