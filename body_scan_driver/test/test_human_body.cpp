@@ -1,5 +1,6 @@
 // The procedural human body: anthropometric ratios, forward kinematics, pose conventions,
 // ray-measured shape, and the scene-file reader.
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/human_body.h>
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
@@ -390,8 +391,8 @@ TEST(HumanBodyFromYaml, RejectsBadInputNamingTheKey) {
 }
 
 TEST(HumanBodyFromYaml, ReadsTheExampleScene) {
-  const std::filesystem::path file = std::filesystem::path(__FILE__).parent_path().parent_path() /
-                                     "config" / "scenes" / "standing_person.yaml";
+  const std::filesystem::path file =
+      std::filesystem::path(sim::driverConfigDir()) / "scenes" / "standing_person.yaml";
   const YAML::Node root = YAML::LoadFile(file.string());
   const YAML::Node person = root["objects"][1];
   ASSERT_EQ(person["type"].as<std::string>(), "human");

@@ -1,3 +1,4 @@
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <gtest/gtest.h>
 
@@ -171,13 +172,11 @@ long differingPixels(const StripeImage& a, const StripeImage& b) {
 
 std::shared_ptr<sim::Scene> personScene() {
   return std::make_shared<sim::Scene>(
-      sim::loadScene(std::filesystem::path(__FILE__).parent_path().string() +
-                     "/../config/scenes/standing_person.yaml"));
+      sim::loadScene(sim::driverConfigDir() + "/scenes/standing_person.yaml"));
 }
 
 sim::VirtualPairConfig defaultPair() {
-  return sim::loadVirtualPairConfig(std::filesystem::path(__FILE__).parent_path().string() +
-                                    "/../config/pairs/default_pair.yaml");
+  return sim::loadVirtualPairConfig(sim::driverConfigDir() + "/pairs/default_pair.yaml");
 }
 
 // kFast at every SIMD level this CPU has must reproduce kReference bit for bit.

@@ -1,3 +1,4 @@
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
 #include <gtest/gtest.h>
@@ -126,7 +127,7 @@ TEST(Triangulation, EverySimdLevelGivesTheSameFloatsAndKeepsOtherFields) {
   StripeImage image;
   StripeDecoder(plane.layout()).decode(plane.render(31).frames, image);
   expectSimdLevelsAgree(plane, image, 300000, "plane");
-  const std::string config = std::filesystem::path(__FILE__).parent_path().string() + "/../config";
+  const std::string config = sim::driverConfigDir();
   const sim::VirtualPair person(
       sim::loadVirtualPairConfig(config + "/pairs/default_pair.yaml"),
       std::make_shared<sim::Scene>(sim::loadScene(config + "/scenes/standing_person.yaml")));

@@ -1,3 +1,4 @@
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -113,8 +114,7 @@ TEST(VirtualPair, PairFileTyposAreErrorsAndTheDefaultFileLoads) {
   }
   std::filesystem::remove(path);
   const auto config =
-      sim::loadVirtualPairConfig(std::filesystem::path(__FILE__).parent_path().string() +
-                                 "/../config/pairs/default_pair.yaml");
+      sim::loadVirtualPairConfig(sim::driverConfigDir() + "/pairs/default_pair.yaml");
   EXPECT_EQ(config.pair_id, "pole_a/pair_1");
   EXPECT_DOUBLE_EQ(config.camera.alpha, 810.0);
   EXPECT_DOUBLE_EQ(config.sensor.noise_sigma, 2.0);

@@ -3,24 +3,16 @@
 // Header-only, so that the simulator library stays free of ROS: whoever includes it links roslib.
 #pragma once
 
-#include <ros/package.h>
+#include <body_scan_driver/tools/package_file.h>
 
 #include <cstdlib>
-#include <stdexcept>
 #include <string>
 
 namespace body_scan_driver::sim {
 
 // body_scan_driver's package folder (config/, data/). Throws std::runtime_error when rospack
 // cannot find it.
-inline std::string driverPackageDir() {
-  const std::string dir = ros::package::getPath("body_scan_driver");
-  if (dir.empty())
-    throw std::runtime_error(
-        "rospack cannot find body_scan_driver: source the workspace's setup.bash "
-        "(ROS_PACKAGE_PATH)");
-  return dir;
-}
+inline std::string driverPackageDir() { return tools::packageDir("body_scan_driver"); }
 
 // Pair files, scenes, rigs and the BVH joint map.
 inline std::string driverConfigDir() { return driverPackageDir() + "/config"; }
