@@ -7,39 +7,12 @@
 #include <stdexcept>
 
 #include "pair_pose_yaml.h"
+#include "yaml_file.h"
 
 namespace body_scan_driver {
 namespace {
 
 constexpr double kDegree = M_PI / 180.0;
-
-template <typename T>
-T required(const YAML::Node& node, const char* key, const std::string& where) {
-  if (!node[key]) throw std::runtime_error(where + ": '" + key + "' is missing");
-  try {
-    return node[key].as<T>();
-  } catch (const YAML::Exception&) {
-    throw std::runtime_error(where + ": '" + key + "' has the wrong type");
-  }
-}
-
-template <typename T>
-T optionalOr(const YAML::Node& node, const char* key, T fallback, const std::string& where) {
-  return node[key] ? required<T>(node, key, where) : fallback;
-}
-
-// A typo in a rig file must not be silently ignored: names `where`, the key and the accepted ones.
-void requireKnownKeys(const YAML::Node& map, const std::vector<std::string>& accepted,
-                      const std::string& where) {
-  if (!map.IsMap()) throw std::runtime_error(where + " must be a map of key: value");
-  for (const auto& entry : map) {
-    const std::string key = entry.first.as<std::string>();
-    if (std::find(accepted.begin(), accepted.end(), key) != accepted.end()) continue;
-    std::string list;
-    for (const std::string& name : accepted) list += (list.empty() ? "" : ", ") + name;
-    throw std::runtime_error(where + ": unknown key '" + key + "'; accepted: " + list);
-  }
-}
 
 }  // namespace
 
@@ -59,13 +32,7 @@ const RigPairLayout& RigLayout::pair(const std::string& pair_id) const {
 }
 
 RigLayout loadRigLayout(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error("cannot read rig file '" + path + "': " + e.what() +
-                             " (check the path and the YAML syntax)");
-  }
+  const YAML::Node root = loadYamlFile(path, "rig");
   requireKnownKeys(root, {"name", "pair_defaults", "poles"}, path);
   RigLayout rig;
   rig.name = optionalOr<std::string>(root, "name", "rig", path);

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "../yaml_file.h"
+
 namespace body_scan_driver::hw {
 namespace {
 
@@ -24,14 +26,7 @@ std::optional<T> optionalValue(const YAML::Node& device, const std::string& key,
 }
 
 PairDeviceIds readDevice(const YAML::Node& device, const std::string& where) {
-  if (!device.IsMap()) throw std::runtime_error(where + " must be a map of key: value");
-  for (const auto& entry : device) {
-    const std::string key = entry.first.as<std::string>();
-    if (std::find(kDeviceKeys.begin(), kDeviceKeys.end(), key) != kDeviceKeys.end()) continue;
-    std::string list;
-    for (const std::string& name : kDeviceKeys) list += (list.empty() ? "" : ", ") + name;
-    throw std::runtime_error(where + ": unknown key '" + key + "'; accepted: " + list);
-  }
+  requireKnownKeys(device, kDeviceKeys, where);
   PairDeviceIds ids;
   ids.camera_id = optionalValue<std::string>(device, "camera_id", where);
   ids.camera_serial = optionalValue<std::string>(device, "camera_serial", where);

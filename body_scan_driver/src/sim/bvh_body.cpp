@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "yaml_file.h"
+#include "../yaml_file.h"
 
 namespace body_scan_driver::sim {
 

@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "virtual_pair_keys.h"
-#include "yaml_file.h"
+#include "../yaml_file.h"
 
 namespace body_scan_driver::sim {
 

@@ -9,7 +9,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "yaml_file.h"
+#include "../yaml_file.h"
 
 namespace body_scan_driver::sim {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "../pair_pose_yaml.h"
 #include "virtual_pair_keys.h"
-#include "yaml_file.h"
+#include "../yaml_file.h"
 
 namespace body_scan_driver::sim {
 namespace {

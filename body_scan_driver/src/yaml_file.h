@@ -1,4 +1,5 @@
-// Loading the simulator's YAML files (scenes, pairs) with one clear error message.
+// Reading the driver's YAML files (rigs, device maps, scenes, pairs) with clear error messages
+// that name the file, the key and the fix. Private to the package's libraries.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -8,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace body_scan_driver::sim {
+namespace body_scan_driver {
 
 // Throws std::runtime_error naming the kind of file, its path and the fix.
 inline YAML::Node loadYamlFile(const std::string& path, const std::string& kind) {
@@ -35,4 +36,21 @@ inline void requireKnownKeys(const YAML::Node& map, const std::vector<std::strin
   }
 }
 
-}  // namespace body_scan_driver::sim
+// node[key] as T; throws naming `where` and the key when it is missing or of the wrong type.
+template <typename T>
+T required(const YAML::Node& node, const char* key, const std::string& where) {
+  if (!node[key]) throw std::runtime_error(where + ": '" + key + "' is missing");
+  try {
+    return node[key].as<T>();
+  } catch (const YAML::Exception&) {
+    throw std::runtime_error(where + ": '" + key + "' has the wrong type");
+  }
+}
+
+// node[key] as T, or `fallback` when the key is absent.
+template <typename T>
+T optionalOr(const YAML::Node& node, const char* key, T fallback, const std::string& where) {
+  return node[key] ? required<T>(node, key, where) : fallback;
+}
+
+}  // namespace body_scan_driver
