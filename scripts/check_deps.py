@@ -21,7 +21,8 @@ import os
 import re
 import sys
 import xml.etree.ElementTree as ET
-from xml.sax.saxutils import escape, quoteattr
+
+from junit import write_junit
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -149,25 +150,12 @@ def check(root):
     return problems, makefile_problems
 
 
-def write_junit(path, problems, makefile_problems):
+def write_results(path, problems, makefile_problems):
     cases = [(m.replace("/package.xml", "").replace("/", "_") + "_package_xml", p)
              for m, p in problems.items()]
     cases.append(("makefile_deb_packages", makefile_problems))
-    failures = sum(1 for _, p in cases if p)
-    lines = ['<?xml version="1.0" encoding="utf-8"?>',
-             '<testsuite name="check_deps" tests="%d" failures="%d" errors="0">'
-             % (len(cases), failures)]
-    for name, found in cases:
-        lines.append('  <testcase classname="check_deps" name=%s>' % quoteattr(name))
-        if found:
-            text = "\n".join(found)
-            lines.append('    <failure message=%s>%s</failure>' % (quoteattr(found[0]),
-                                                                  escape(text)))
-        lines.append("  </testcase>")
-    lines.append("</testsuite>")
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    with open(path, "w") as out:
-        out.write("\n".join(lines) + "\n")
+    write_junit(path, "check_deps",
+                [(name, 0.0, "\n".join(found) if found else None, "") for name, found in cases])
 
 
 def main():
@@ -178,7 +166,7 @@ def main():
 
     problems, makefile_problems = check(args.root)
     if args.junit:
-        write_junit(args.junit, problems, makefile_problems)
+        write_results(args.junit, problems, makefile_problems)
     found = [p for ps in problems.values() for p in ps] + makefile_problems
     for problem in found:
         print("check_deps: " + problem, file=sys.stderr)

@@ -27,7 +27,8 @@ import socket
 import subprocess
 import sys
 import time
-from xml.sax.saxutils import escape, quoteattr
+
+from junit import write_junit
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MIN_POINTS = 100000
@@ -186,27 +187,6 @@ def check_links(env, prefix):
     return result.stdout.strip()
 
 
-def write_junit(path, cases):
-    failures = sum(1 for c in cases if c[2] is not None)
-    lines = ['<?xml version="1.0" encoding="utf-8"?>',
-             '<testsuite name="install_space" tests="%d" failures="%d" errors="0">'
-             % (len(cases), failures)]
-    for name, seconds, failure, detail in cases:
-        lines.append('  <testcase classname="install_space" name=%s time="%.1f">'
-                     % (quoteattr(name), seconds))
-        if failure is not None:
-            lines.append("    <failure message=%s>%s</failure>"
-                         % (quoteattr(failure.splitlines()[0] if failure else "failed"),
-                            escape(failure)))
-        else:
-            lines.append("    <system-out>%s</system-out>" % escape(detail))
-        lines.append("  </testcase>")
-    lines.append("</testsuite>")
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    with open(path, "w") as out:
-        out.write("\n".join(lines) + "\n")
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("build_dir")
@@ -259,7 +239,7 @@ def main():
     if not args.no_links:
         case("product_links", lambda: check_links(state["env"], state["prefix"]))
     if args.junit:
-        write_junit(args.junit, cases)
+        write_junit(args.junit, "install_space", cases)
     return 1 if any(c[2] is not None for c in cases) else 0
 
 
