@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Calibrates the simulated 2x2 rig from observations only (issue 3): every pair of
-# body_scan_calib/config/alignment/*.yaml with `calibrate_pair --live` (board poses + spheres),
-# then `align_world --calibration-in` on those ESTIMATED calibrations (no factory calibration).
+# body_scan_calib/config/alignment/*.yaml with `calibrate_simulated_pair` (board poses + spheres),
+# then `align_simulated_rig --calibration-in` on those ESTIMATED calibrations (no factory
+# calibration).
 # Every file is written atomically by the tools.
 #
 #   scripts/calibrate_simulated_rig.sh [OUT_DIR]      (default build/simulated_rig)
@@ -23,7 +24,7 @@ exposures=${EXPOSURES:-16}
 report=${REPORT:-$out/world_alignment.yaml}
 plot=${PLOT:-$out/world_alignment.png}
 
-for tool in calibrate_pair align_world; do
+for tool in calibrate_simulated_pair align_simulated_rig; do
   if [[ ! -x $bin/$tool ]]; then
     echo "error: $bin/$tool not found: run 'make build' first (or set BIN=...)" >&2
     exit 1
@@ -37,7 +38,7 @@ for pair in "${pairs[@]}"; do
   n=$((n + 1))
   stem=$(basename "$pair" .yaml)  # <pole>_<pair>: the stem align_world looks for
   echo "== [$n/${#pairs[@]}] calibrating $stem ($exposures exposures per pattern)"
-  "$bin/calibrate_pair" --live --pair "$pair" --exposures "$exposures" \
+  "$bin/calibrate_simulated_pair" --pair "$pair" --exposures "$exposures" \
     --output "$out/estimated/$stem.yaml" \
     --report "$out/estimated/${stem}_accuracy.yaml" \
     --plot "$out/estimated/${stem}_projector_parameters.png"
@@ -46,7 +47,7 @@ done
 echo "== aligning the estimated calibrations to the world (calibration cylinder)"
 pair_options=()
 for pair in "${pairs[@]}"; do pair_options+=(--pair "$pair"); done
-"$bin/align_world" --scene "$root/body_scan_driver/config/scenes/calibration_cylinder.yaml" \
+"$bin/align_simulated_rig" --scene "$root/body_scan_driver/config/scenes/calibration_cylinder.yaml" \
   "${pair_options[@]}" --calibration-in "$out/estimated" --calibration-out "$out/aligned" \
   --report "$report" --plot "$plot"
 echo "== done: $report"

@@ -1,6 +1,6 @@
-// align_world end to end: live against the simulator (saving its images), then offline from
-// those images; both write aligned calibration files and the same E_h; bad folders fail with a
-// message naming the fix.
+// The alignment tools end to end: align_simulated_rig against the simulator (saving its images),
+// then align_world on those images; both write aligned calibration files and the same E_h; bad
+// folders fail with a message naming the fix.
 #include <body_scan_driver/calibration_file.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -15,13 +15,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Runs align_world with `arguments`; returns its exit status and its stderr.
-int runAlignWorld(const std::string& arguments, std::string* errors = nullptr) {
+// Runs `executable` with `arguments`; returns its exit status and its stderr.
+int runTool(const std::string& executable, const std::string& arguments,
+            std::string* errors = nullptr) {
   const std::string error_file =
       testing::TempDir() + "/align_world_stderr_" + std::to_string(::getpid()) + ".txt";
-  const int status = std::system(
-      (std::string(ALIGN_WORLD_EXECUTABLE) + " " + arguments + " > /dev/null 2> " + error_file)
-          .c_str());
+  const int status =
+      std::system((executable + " " + arguments + " > /dev/null 2> " + error_file).c_str());
   if (errors) {
     std::ifstream in(error_file);
     std::stringstream text;
@@ -31,13 +31,18 @@ int runAlignWorld(const std::string& arguments, std::string* errors = nullptr) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-TEST(AlignWorldCli, LiveThenOfflineFromTheSavedImages) {
+int runAlignWorld(const std::string& arguments, std::string* errors = nullptr) {
+  return runTool(ALIGN_WORLD_EXECUTABLE, arguments, errors);
+}
+
+TEST(AlignWorldCli, SimulatedRigThenAlignWorldOnTheSavedImages) {
   const fs::path root =
       fs::path(testing::TempDir()) / ("align_world_cli_" + std::to_string(::getpid()));
   fs::remove_all(root);
   const std::string live_out = (root / "live").string(), images = (root / "images").string();
-  ASSERT_EQ(runAlignWorld("--calibration-out " + live_out + " --save-images " + images +
-                          " --report " + live_out + "/report.yaml"),
+  ASSERT_EQ(runTool(ALIGN_SIMULATED_RIG_EXECUTABLE, "--calibration-out " + live_out +
+                                                        " --save-images " + images + " --report " +
+                                                        live_out + "/report.yaml"),
             0);
   const YAML::Node live = YAML::LoadFile(live_out + "/report.yaml");
   EXPECT_EQ(live["pairs"].size(), 4u);
@@ -67,6 +72,9 @@ TEST(AlignWorldCli, LiveThenOfflineFromTheSavedImages) {
   EXPECT_EQ(runAlignWorld("--images " + images + " --calibration-out " + offline_out, &errors), 1);
   EXPECT_NE(errors.find("--calibration-in"), std::string::npos) << errors;
   EXPECT_EQ(runAlignWorld("--no-such-option", &errors), 2);
+  // The product tool has no simulator mode: without --images it names the option.
+  EXPECT_EQ(runAlignWorld("--calibration-out " + offline_out, &errors), 2);
+  EXPECT_NE(errors.find("--images"), std::string::npos) << errors;
   fs::remove_all(root);
 }
 

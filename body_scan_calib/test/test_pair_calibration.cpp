@@ -5,7 +5,9 @@
 #include <body_scan_calib/calibration_rig.h>
 #include <body_scan_calib/capture_folder.h>
 #include <body_scan_calib/pair_calibration_pipeline.h>
+#include <body_scan_calib/pair_calibration_run.h>
 #include <body_scan_calib/sim/calibration_scenes.h>
+#include <body_scan_calib/sim/simulated_captures.h>
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
@@ -15,7 +17,9 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
 
 using namespace body_scan_driver;
 using namespace body_scan_calib;
@@ -190,6 +194,48 @@ TEST(PairCalibration, OfflineFromAnImageFolderGivesTheLiveResult) {
   EXPECT_THROW(loadPoseCaptures(folder.string(), layout), std::runtime_error);
   std::filesystem::remove_all(folder);
   EXPECT_THROW(loadPoseCaptures(folder.string(), layout), std::runtime_error);
+}
+
+namespace {
+std::string fileText(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+}  // namespace
+
+// calibrate_simulated_pair --save-images then calibrate_pair --images on that folder: the two
+// tools' runs (rendered views in memory, the folder read back) write the same calibration file.
+TEST(PairCalibration, SimulatedRunAndFolderRunWriteTheSameCalibration) {
+  const std::filesystem::path root =
+      std::filesystem::temp_directory_path() / ("calib_runs_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(root);
+  const body_scan_driver::sim::VirtualPairConfig config;
+  PairCalibrationOptions options;
+  options.joint_refinement = false;  // the views are what is under test, not the refinement
+  options.pair_id = config.pair_id;
+  const PairViews simulated = body_scan_calib::sim::captureSimulatedPairViews(
+      config, options.board, 1, (root / "captures").string());
+  ASSERT_TRUE(simulated.truth.has_value());
+  const auto files = [&](const std::string& name) {
+    return PairCalibrationFiles{(root / (name + ".yaml")).string(),
+                                (root / (name + "_accuracy.yaml")).string(),
+                                (root / (name + ".png")).string()};
+  };
+  calibratePairToFiles(simulated, options, files("simulated"));
+  const PairViews folder = loadPairViews((root / "captures").string(), config.bits, 1);
+  EXPECT_EQ(folder.pose_frames.size(), simulated.pose_frames.size());
+  EXPECT_EQ(folder.sphere_frames.size(), simulated.sphere_frames.size());
+  calibratePairToFiles(folder, options, files("folder"));
+  const std::string calibration = fileText(root / "simulated.yaml");
+  EXPECT_GT(calibration.size(), 10000u);
+  EXPECT_EQ(fileText(root / "folder.yaml"), calibration);
+  // Only the simulator knows the truth: the decoding floor is in its report alone.
+  EXPECT_NE(fileText(root / "simulated_accuracy.yaml").find("Decoding floor"), std::string::npos);
+  EXPECT_EQ(fileText(root / "folder_accuracy.yaml").find("Decoding floor"), std::string::npos);
+  EXPECT_GT(std::filesystem::file_size(root / "folder.png"), 1000u);
+  std::filesystem::remove_all(root);
 }
 
 TEST(PairCalibration, SphereTablePlaneModelBeatsThePinholeBaseline) {

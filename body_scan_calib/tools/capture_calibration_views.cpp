@@ -156,7 +156,8 @@ int runCalibratePair(const Settings& settings, int bits, const std::string& pair
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
+// The node's parameters, checked: throws std::invalid_argument naming the parameter.
+Settings readSettings(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   Settings settings;
   pnh.param<std::string>("folder", settings.folder, "");
   pnh.param<std::string>("bag", settings.bag, "");
@@ -188,35 +189,110 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
                              settings.report_file.empty() || settings.plot_file.empty()))
     throw std::invalid_argument(
         "~calibrate needs ~folder, ~calibration_file, ~report_file and ~plot_file");
+  return settings;
+}
 
+// The running PairDriver: its pattern sets, its ~capture and (simulator) ~set_scene services.
+struct Driver {
+  ros::Subscriber pattern_sub;
+  ros::ServiceClient capture_client, scene_client;
+};
+
+// Waits (up to ~capture_timeout each) for the services and a pattern set publisher; throws
+// naming what is missing and the fix.
+void waitForDriver(const Settings& settings, Driver& driver) {
+  ROS_INFO("waiting for %s and a publisher on %s", driver.capture_client.getService().c_str(),
+           driver.pattern_sub.getTopic().c_str());
+  if (!driver.capture_client.waitForExistence(ros::Duration(settings.capture_timeout)))
+    throw std::runtime_error("no service " + driver.capture_client.getService() +
+                             ": start the PairDriver (or set ~driver to its node name)");
+  if (settings.targets == "sim" &&
+      !driver.scene_client.waitForExistence(ros::Duration(settings.capture_timeout)))
+    throw std::runtime_error("no service " + driver.scene_client.getService() +
+                             ": the driver must be the simulator (backend:=sim)");
+  for (ros::WallTime end = ros::WallTime::now() + ros::WallDuration(settings.capture_timeout);
+       driver.pattern_sub.getNumPublishers() == 0; ros::WallDuration(0.05).sleep())
+    if (ros::WallTime::now() > end || !ros::ok())
+      throw std::runtime_error("nobody publishes " + driver.pattern_sub.getTopic() +
+                               ": remap pattern_set to the driver's topic");
+}
+
+// Puts placement `p` of `count` in front of the pair: the simulator's ~set_scene, or the
+// operator (Enter when done).
+void placeTarget(const Settings& settings, const Placement& placement, size_t p, size_t count,
+                 Driver& driver) {
+  if (settings.targets == "sim") {
+    body_scan_msgs::SetScene set_scene;
+    set_scene.request.scene_yaml = placement.scene_yaml;
+    // The driver opens its pair before it advertises ~set_scene: one call is the answer.
+    if (!driver.scene_client.call(set_scene) || !set_scene.response.success)
+      throw std::runtime_error("cannot place the " + placement.name + " target: " +
+                               (set_scene.response.message.empty()
+                                    ? "no service " + driver.scene_client.getService()
+                                    : set_scene.response.message));
+    std::cout << "[" << p + 1 << "/" << count << "] " << placement.name
+              << ": target placed, capturing " << settings.exposures << " exposure(s)" << std::endl;
+  } else {
+    std::cout << "[" << p + 1 << "/" << count << "] " << placement.name << ": "
+              << placement.instructions << ", then press Enter" << std::endl;
+    std::string line;
+    if (!std::getline(std::cin, line))
+      throw std::runtime_error("no operator input (stdin closed): run with rosrun in a terminal");
+  }
+}
+
+// What the captures of the run tell the calibration: the sets' bits and pair id.
+struct CapturedSets {
+  int bits = 0;
+  std::string pair_id;
+};
+
+// ~exposures captures of placement `p`: each recorded into `bag` (if any); with ~folder, their
+// frames averaged and written into the placement's folder.
+void capturePlacement(const Settings& settings, const Placement& placement, size_t p,
+                      PatternSetWaiter& waiter, Driver& driver, rosbag::Bag* bag,
+                      CapturedSets& captured) {
+  std::vector<std::vector<cv::Mat>> captures;
+  for (int exposure = 0; exposure < settings.exposures; ++exposure) {
+    body_scan_msgs::Capture capture;
+    capture.request.scan_id = kScanIdsPerPlacement * static_cast<uint32_t>(p + 1) + exposure;
+    if (!driver.capture_client.call(capture) || !capture.response.success)
+      throw std::runtime_error(
+          placement.name + ": capture failed: " +
+          (capture.response.message.empty() ? "service call failed" : capture.response.message));
+    const auto set = waiter.waitFor(capture.response.scan_id, settings.capture_timeout);
+    if (!set)
+      throw std::runtime_error(placement.name + ": pattern set of scan " +
+                               std::to_string(capture.response.scan_id) + " not received on " +
+                               driver.pattern_sub.getTopic() + " within " +
+                               std::to_string(settings.capture_timeout) + " s");
+    captured.bits = set->bits;
+    if (captured.pair_id.empty()) captured.pair_id = set->pair_id;
+    if (bag) bag->write(driver.pattern_sub.getTopic(), ros::Time::now(), *set);
+    if (!settings.folder.empty()) captures.push_back(body_scan_calib::patternFrames(*set));
+  }
+  if (!settings.folder.empty()) {
+    const std::string folder = (fs::path(settings.folder) / placement.folder_name).string();
+    body_scan_calib::savePatternFrames(folder, body_scan_calib::averageCaptures(captures));
+    std::cout << "    wrote " << folder << std::endl;
+  }
+}
+
+int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
+  const Settings settings = readSettings(nh, pnh);
   Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();
   if (settings.targets == "sim" && !settings.pair_file.empty())
     world_from_camera = body_scan_driver::loadPairFilePose(settings.pair_file);
   const std::vector<Placement> plan = placements(settings, world_from_camera);
 
   PatternSetWaiter waiter;
-  ros::Subscriber pattern_sub =
-      nh.subscribe("pattern_set", 4, &PatternSetWaiter::onPatternSet, &waiter);
-  ros::ServiceClient capture_client =
-      nh.serviceClient<body_scan_msgs::Capture>(settings.driver + "/capture");
-  ros::ServiceClient scene_client =
-      nh.serviceClient<body_scan_msgs::SetScene>(settings.driver + "/set_scene");
+  Driver driver;
+  driver.pattern_sub = nh.subscribe("pattern_set", 4, &PatternSetWaiter::onPatternSet, &waiter);
+  driver.capture_client = nh.serviceClient<body_scan_msgs::Capture>(settings.driver + "/capture");
+  driver.scene_client = nh.serviceClient<body_scan_msgs::SetScene>(settings.driver + "/set_scene");
   ros::AsyncSpinner spinner(1);
   spinner.start();
-  ROS_INFO("waiting for %s and a publisher on %s", capture_client.getService().c_str(),
-           pattern_sub.getTopic().c_str());
-  if (!capture_client.waitForExistence(ros::Duration(settings.capture_timeout)))
-    throw std::runtime_error("no service " + capture_client.getService() +
-                             ": start the PairDriver (or set ~driver to its node name)");
-  if (settings.targets == "sim" &&
-      !scene_client.waitForExistence(ros::Duration(settings.capture_timeout)))
-    throw std::runtime_error("no service " + scene_client.getService() +
-                             ": the driver must be the simulator (backend:=sim)");
-  for (ros::WallTime end = ros::WallTime::now() + ros::WallDuration(settings.capture_timeout);
-       pattern_sub.getNumPublishers() == 0; ros::WallDuration(0.05).sleep())
-    if (ros::WallTime::now() > end || !ros::ok())
-      throw std::runtime_error("nobody publishes " + pattern_sub.getTopic() +
-                               ": remap pattern_set to the driver's topic");
+  waitForDriver(settings, driver);
 
   // Captures of an earlier run (more poses, spheres) would be read with this run's.
   if (!settings.folder.empty()) {
@@ -233,53 +309,10 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
     bag = std::make_unique<rosbag::Bag>(bag_active, rosbag::bagmode::Write);
   }
 
-  int bits = 0;
-  std::string pair_id = settings.pair_id;
+  CapturedSets captured{0, settings.pair_id};
   for (size_t p = 0; p < plan.size(); ++p) {
-    const Placement& placement = plan[p];
-    if (settings.targets == "sim") {
-      body_scan_msgs::SetScene set_scene;
-      set_scene.request.scene_yaml = placement.scene_yaml;
-      // The driver opens its pair before it advertises ~set_scene: one call is the answer.
-      if (!scene_client.call(set_scene) || !set_scene.response.success)
-        throw std::runtime_error("cannot place the " + placement.name + " target: " +
-                                 (set_scene.response.message.empty()
-                                      ? "no service " + scene_client.getService()
-                                      : set_scene.response.message));
-      std::cout << "[" << p + 1 << "/" << plan.size() << "] " << placement.name
-                << ": target placed, capturing " << settings.exposures << " exposure(s)"
-                << std::endl;
-    } else {
-      std::cout << "[" << p + 1 << "/" << plan.size() << "] " << placement.name << ": "
-                << placement.instructions << ", then press Enter" << std::endl;
-      std::string line;
-      if (!std::getline(std::cin, line))
-        throw std::runtime_error("no operator input (stdin closed): run with rosrun in a terminal");
-    }
-    std::vector<std::vector<cv::Mat>> captures;
-    for (int exposure = 0; exposure < settings.exposures; ++exposure) {
-      body_scan_msgs::Capture capture;
-      capture.request.scan_id = kScanIdsPerPlacement * static_cast<uint32_t>(p + 1) + exposure;
-      if (!capture_client.call(capture) || !capture.response.success)
-        throw std::runtime_error(
-            placement.name + ": capture failed: " +
-            (capture.response.message.empty() ? "service call failed" : capture.response.message));
-      const auto set = waiter.waitFor(capture.response.scan_id, settings.capture_timeout);
-      if (!set)
-        throw std::runtime_error(placement.name + ": pattern set of scan " +
-                                 std::to_string(capture.response.scan_id) + " not received on " +
-                                 pattern_sub.getTopic() + " within " +
-                                 std::to_string(settings.capture_timeout) + " s");
-      bits = set->bits;
-      if (pair_id.empty()) pair_id = set->pair_id;
-      if (bag) bag->write(pattern_sub.getTopic(), ros::Time::now(), *set);
-      if (!settings.folder.empty()) captures.push_back(body_scan_calib::patternFrames(*set));
-    }
-    if (!settings.folder.empty()) {
-      const std::string folder = (fs::path(settings.folder) / placement.folder_name).string();
-      body_scan_calib::savePatternFrames(folder, body_scan_calib::averageCaptures(captures));
-      std::cout << "    wrote " << folder << std::endl;
-    }
+    placeTarget(settings, plan[p], p, plan.size(), driver);
+    capturePlacement(settings, plan[p], p, waiter, driver, bag.get(), captured);
   }
   if (bag) {
     bag->close();
@@ -290,7 +323,8 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   }
   if (!settings.calibrate) return 0;
   std::cout << "calibrating from " << settings.folder << std::endl;
-  const int status = runCalibratePair(settings, bits, pair_id.empty() ? "pair" : pair_id);
+  const int status = runCalibratePair(settings, captured.bits,
+                                      captured.pair_id.empty() ? "pair" : captured.pair_id);
   if (status != 0)
     throw std::runtime_error("calibrate_pair failed (exit status " + std::to_string(status) +
                              "); its error is printed above");

@@ -78,7 +78,8 @@ class WorldAlignmentPublisher {
       if (error) {
         ROS_ERROR_THROTTLE(10.0,
                            "[%s] calibration file %s not found: align the pairs with "
-                           "`rosrun body_scan_calib align_world` (it writes this file)",
+                           "`rosrun body_scan_calib align_world --images DIR` (simulator: "
+                           "align_simulated_rig); it writes this file",
                            pair.pair_id.c_str(), pair.path.c_str());
         continue;
       }

@@ -1,5 +1,5 @@
 // The calibration rig's targets (calibration_rig.h) rendered in-process by the virtual pair:
-// the simulator side of calibrate_pair --live and of the tests (library body_scan_calib_sim,
+// the simulator side of calibrate_simulated_pair and of the tests (library body_scan_calib_sim,
 // which links the simulator; product code never does).
 #pragma once
 
