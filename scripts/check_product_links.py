@@ -30,8 +30,13 @@ NON_PRODUCT_LIBRARY = re.compile(r"lib(body_scan_sim\w*|\w*_eval\w*|\w*evaluatio
                                  r"\w*simulated_scan\w*)\.so")
 # Plugin libraries that are themselves the simulator's (the `sim` driver backend).
 NON_PRODUCT_PLUGIN = re.compile(r"(^|_)sim(_|$)|simulat|_eval|evaluation")
-# Product nodes besides the *_node executables.
-PRODUCT_NODES = ("body_scan_calib/world_alignment_publisher", "body_scan_merge/save_cloud")
+# Product nodes and tools besides the *_node executables.
+PRODUCT_NODES = ("body_scan_calib/world_alignment_publisher", "body_scan_merge/save_cloud",
+                 "body_scan_calib/calibrate_camera", "body_scan_calib/calibrate_pair",
+                 "body_scan_calib/align_world", "body_scan_calib/bag_to_calibration_folder",
+                 "body_scan_calib/capture_calibration_views", "body_scan_merge/plan_timing_groups",
+                 "body_gait_id/gait_gallery", "body_scan_driver/list_devices",
+                 "body_scan_driver/measure_projector_latency")
 FORBIDDEN_STRINGS = ("../shared",)
 
 
