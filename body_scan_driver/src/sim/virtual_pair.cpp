@@ -29,6 +29,104 @@ cv::Vec3f toVec3f(const Eigen::Vector3d& v) {
   return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
 }
 
+// The unit ray of pixel (u, v), clamped to the image (camera frame).
+Eigen::Vector3d rayAt(const std::vector<Eigen::Vector3f>& rays, int rows, int cols, int u, int v) {
+  u = std::clamp(u, 0, cols - 1);
+  v = std::clamp(v, 0, rows - 1);
+  return rays[static_cast<size_t>(v) * cols + u].cast<double>();
+}
+
+// Printed patterns: mean albedo and colour of the surface over 4x4 samples of the pixel area
+// (left unchanged if no sample hits it). Sample rays come from the pixel's ray and its central
+// differences to the neighbouring pixels' rays (distortion is smooth over a pixel; no
+// per-sample undistortion).
+void averageOverPixel(const Surface& surface, const std::vector<Eigen::Vector3f>& rays, int rows,
+                      int cols, const Eigen::Isometry3d& pose, const Eigen::Matrix3d& rotation,
+                      int u, int v, double& albedo, Eigen::Vector3d& color) {
+  constexpr int kSamples = 4;
+  const Eigen::Vector3d centre = rayAt(rays, rows, cols, u, v);
+  const Eigen::Vector3d along_u =
+      (rayAt(rays, rows, cols, u + 1, v) - rayAt(rays, rows, cols, u - 1, v)) /
+      std::max(1, std::min(u + 1, cols - 1) - std::max(u - 1, 0));
+  const Eigen::Vector3d along_v =
+      (rayAt(rays, rows, cols, u, v + 1) - rayAt(rays, rows, cols, u, v - 1)) /
+      std::max(1, std::min(v + 1, rows - 1) - std::max(v - 1, 0));
+  double albedo_sum = 0;
+  Eigen::Vector3d color_sum = Eigen::Vector3d::Zero();
+  int hits = 0;
+  for (int i = 0; i < kSamples; ++i)
+    for (int j = 0; j < kSamples; ++j) {
+      const double du = (j + 0.5) / kSamples - 0.5, dv = (i + 0.5) / kSamples - 0.5;
+      const Eigen::Vector3d direction =
+          rotation * (centre + du * along_u + dv * along_v).normalized();
+      Hit sample;
+      if (!surface.intersect(Ray{pose.translation(), direction}, 1e-6,
+                             std::numeric_limits<double>::infinity(), sample))
+        continue;
+      const Eigen::Vector3d point = pose.translation() + sample.distance * direction;
+      albedo_sum += surface.albedoAt(point);
+      color_sum += surface.colorAt(point);
+      ++hits;
+    }
+  if (hits == 0) return;
+  albedo = albedo_sum / hits;
+  color = color_sum / hits;
+}
+
+// The smaller stripe step from here to a neighbour on either side (0 if neither has a stripe).
+float smallerStep(float here, float a, float b) {
+  const float da = std::abs(a - here), db = std::abs(b - here);
+  if (std::isnan(da)) return std::isnan(db) ? 0.f : db;
+  return std::isnan(db) ? da : std::min(da, db);
+}
+
+// Which stripes each frame lights: [frame][stripe].
+std::vector<std::vector<uint8_t>> litStripes(const PatternLayout& layout) {
+  const int frames = layout.frameCount(), stripes = layout.stripeCount();
+  std::vector<std::vector<uint8_t>> lights(frames, std::vector<uint8_t>(stripes));
+  for (int f = 0; f < frames; ++f)
+    for (int k = 0; k < stripes; ++k) lights[f][k] = layout.lights(f, k);
+  return lights;
+}
+
+// Fraction of a pixel lit by a frame: a box filter of the lit stripes over the pixel's stripe
+// footprint [stripe - width/2, stripe + width/2], or the stripe under its centre if it is that
+// narrow.
+float litCoverage(float stripe, float width, const std::vector<uint8_t>& lit, int stripes) {
+  if (width < 1e-3f) return lit[std::clamp(static_cast<int>(stripe), 0, stripes - 1)];
+  float coverage = 0;
+  const float lo = stripe - 0.5f * width, hi = stripe + 0.5f * width;
+  for (int k = static_cast<int>(std::floor(lo)); k <= static_cast<int>(std::floor(hi)); ++k)
+    if (k >= 0 && k < stripes && lit[k])
+      coverage += std::min(hi, k + 1.f) - std::max(lo, static_cast<float>(k));
+  coverage /= width;
+  return coverage;
+}
+
+// The camera's optics: a Gaussian blur of sensor.blur_sigma pixels, in place.
+void applyOptics(const SensorModel& sensor, cv::Mat& image) {
+  if (sensor.blur_sigma > 0)
+    cv::GaussianBlur(image, image, cv::Size(0, 0), sensor.blur_sigma, sensor.blur_sigma,
+                     cv::BORDER_REPLICATE);
+}
+
+// Sensor noise, then quantization to 8 bits. The samples come from the precomputed unit
+// Gaussian table at an offset mixed from the seed, scan and image (stream), so that renders are
+// deterministic and images differ.
+void addNoise(const cv::Mat& image, const SensorModel& sensor, const std::vector<float>& noise,
+              uint32_t scan_id, uint64_t stream, cv::Mat& out) {
+  size_t offset = mix(mix(sensor.seed) ^ mix(scan_id) ^ stream);
+  const float sigma = static_cast<float>(sensor.noise_sigma);
+  out.create(image.size(), CV_MAKETYPE(CV_8U, image.channels()));
+  const int values = image.cols * image.channels();
+  for (int v = 0; v < image.rows; ++v) {
+    const float* in = image.ptr<float>(v);
+    uint8_t* o = out.ptr<uint8_t>(v);
+    for (int i = 0; i < values; ++i)
+      o[i] = cv::saturate_cast<uint8_t>(in[i] + sigma * noise[offset++ & (kNoiseTableSize - 1)]);
+  }
+}
+
 }  // namespace
 
 SweptLaserProjector::Plane SweptLaserProjector::planeAtAngle(double angle) const {
@@ -154,63 +252,18 @@ struct VirtualPair::SurfaceSample {
   cv::Vec3f color{0, 0, 0};
 };
 
-RenderedPatternSet VirtualPair::render(
-    uint32_t scan_id, const std::vector<const VirtualPair*>& also_projecting) const {
-  if (camera_rays_.empty())
-    throw std::logic_error("VirtualPair::render on a projector-only pair (" + config_.pair_id +
-                           ")");
+void VirtualPair::traceSurfaces(const std::vector<const VirtualPair*>& also_projecting,
+                                GroundTruth& truth, std::vector<SurfaceSample>& samples,
+                                std::vector<std::vector<ForeignLight>>& foreign) const {
   const PinholeCamera& camera = config_.camera;
   const SensorModel& sensor = config_.sensor;
   const int rows = camera.height, cols = camera.width;
   const Eigen::Isometry3d& pose = config_.world_from_camera;
   const Eigen::Matrix3d rotation = pose.linear();
-
-  RenderedPatternSet result;
-  GroundTruth& truth = result.truth;
   truth.points.create(rows, cols);
   truth.stripe.create(rows, cols);
   truth.surface.create(rows, cols);
   truth.skeleton = scene_->skeleton();
-  std::vector<SurfaceSample> samples(static_cast<size_t>(rows) * cols);
-  std::vector<std::vector<ForeignLight>> foreign(also_projecting.empty() ? 0 : rows);
-
-  // Printed patterns: mean albedo and colour of the surface over 4x4 samples of the pixel area.
-  // Sample rays come from the pixel's ray and its central differences to the neighbouring
-  // pixels' rays (distortion is smooth over a pixel; no per-sample undistortion).
-  auto ray_at = [&](int u, int v) -> Eigen::Vector3d {
-    u = std::clamp(u, 0, cols - 1);
-    v = std::clamp(v, 0, rows - 1);
-    return camera_rays_[static_cast<size_t>(v) * cols + u].cast<double>();
-  };
-  auto averageOverPixel = [&](const Surface& surface, int u, int v, double& albedo,
-                              Eigen::Vector3d& color) {
-    constexpr int kSamples = 4;
-    const Eigen::Vector3d centre = ray_at(u, v);
-    const Eigen::Vector3d along_u = (ray_at(u + 1, v) - ray_at(u - 1, v)) /
-                                    std::max(1, std::min(u + 1, cols - 1) - std::max(u - 1, 0));
-    const Eigen::Vector3d along_v = (ray_at(u, v + 1) - ray_at(u, v - 1)) /
-                                    std::max(1, std::min(v + 1, rows - 1) - std::max(v - 1, 0));
-    double albedo_sum = 0;
-    Eigen::Vector3d color_sum = Eigen::Vector3d::Zero();
-    int hits = 0;
-    for (int i = 0; i < kSamples; ++i)
-      for (int j = 0; j < kSamples; ++j) {
-        const double du = (j + 0.5) / kSamples - 0.5, dv = (i + 0.5) / kSamples - 0.5;
-        const Eigen::Vector3d direction =
-            rotation * (centre + du * along_u + dv * along_v).normalized();
-        Hit sample;
-        if (!surface.intersect(Ray{pose.translation(), direction}, 1e-6,
-                               std::numeric_limits<double>::infinity(), sample))
-          continue;
-        const Eigen::Vector3d point = pose.translation() + sample.distance * direction;
-        albedo_sum += surface.albedoAt(point);
-        color_sum += surface.colorAt(point);
-        ++hits;
-      }
-    if (hits == 0) return;
-    albedo = albedo_sum / hits;
-    color = color_sum / hits;
-  };
 
   cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& range) {
     for (int v = range.start; v < range.end; ++v)
@@ -230,7 +283,9 @@ RenderedPatternSet VirtualPair::render(
         const Eigen::Vector3d normal_camera = rotation.transpose() * hit.normal;
         double albedo = hit.surface->albedoAt(point_world);
         Eigen::Vector3d color = hit.surface->colorAt(point_world);
-        if (hit.surface->patterned()) averageOverPixel(*hit.surface, u, v, albedo, color);
+        if (hit.surface->patterned())
+          averageOverPixel(*hit.surface, camera_rays_, rows, cols, pose, rotation, u, v, albedo,
+                           color);
         SurfaceSample& sample = samples[index];
         sample.ambient_level = static_cast<float>(sensor.projector_level * albedo * sensor.ambient);
         const double facing = std::max(0.0, -normal_camera.dot(ray_camera));
@@ -250,97 +305,84 @@ RenderedPatternSet VirtualPair::render(
         truth.stripe(v, u) = sample.stripe;
       }
   });
+}
 
-  // Stripe footprint of each pixel: how much of the coordinate its area spans (antialiasing
-  // keeps the subpixel position of stripe edges in the image, as a real sensor does).
+std::vector<float> VirtualPair::stripeFootprints(const std::vector<SurfaceSample>& samples,
+                                                 int rows, int cols) {
   std::vector<float> footprint(samples.size(), 0.f);
   auto stripe_at = [&](int v, int u) {
     return (u < 0 || v < 0 || u >= cols || v >= rows)
                ? std::numeric_limits<float>::quiet_NaN()
                : samples[static_cast<size_t>(v) * cols + u].stripe;
   };
-  auto smaller_step = [](float here, float a, float b) {
-    const float da = std::abs(a - here), db = std::abs(b - here);
-    if (std::isnan(da)) return std::isnan(db) ? 0.f : db;
-    return std::isnan(db) ? da : std::min(da, db);
-  };
   for (int v = 0; v < rows; ++v)
     for (int u = 0; u < cols; ++u) {
       const float s = stripe_at(v, u);
       if (std::isnan(s)) continue;
-      const float du = smaller_step(s, stripe_at(v, u - 1), stripe_at(v, u + 1));
-      const float dv = smaller_step(s, stripe_at(v - 1, u), stripe_at(v + 1, u));
+      const float du = smallerStep(s, stripe_at(v, u - 1), stripe_at(v, u + 1));
+      const float dv = smallerStep(s, stripe_at(v - 1, u), stripe_at(v + 1, u));
       footprint[static_cast<size_t>(v) * cols + u] = std::min(std::hypot(du, dv), kMaxFootprint);
     }
+  return footprint;
+}
 
-  // Which stripes each frame lights.
-  const int frames = layout_.frameCount(), stripes = layout_.stripeCount();
-  std::vector<std::vector<uint8_t>> lights(frames, std::vector<uint8_t>(stripes));
-  for (int f = 0; f < frames; ++f)
-    for (int k = 0; k < stripes; ++k) lights[f][k] = layout_.lights(f, k);
-
-  auto add_noise = [&](const cv::Mat& image, uint64_t stream, cv::Mat& out) {
-    size_t offset = mix(mix(sensor.seed) ^ mix(scan_id) ^ stream);
-    const float sigma = static_cast<float>(sensor.noise_sigma);
-    out.create(image.size(), CV_MAKETYPE(CV_8U, image.channels()));
-    const int values = image.cols * image.channels();
-    for (int v = 0; v < image.rows; ++v) {
-      const float* in = image.ptr<float>(v);
-      uint8_t* o = out.ptr<uint8_t>(v);
-      for (int i = 0; i < values; ++i)
-        o[i] = cv::saturate_cast<uint8_t>(in[i] + sigma * noise_[offset++ & (kNoiseTableSize - 1)]);
+void VirtualPair::shadeFrame(const std::vector<uint8_t>& lit,
+                             const std::vector<SurfaceSample>& samples,
+                             const std::vector<float>& footprint,
+                             const std::vector<std::vector<ForeignLight>>& foreign,
+                             cv::Mat1f& image) const {
+  const int rows = image.rows, cols = image.cols, stripes = layout_.stripeCount();
+  for (int v = 0; v < rows; ++v) {
+    float* out = image.ptr<float>(v);
+    const ForeignLight* light = foreign.empty() ? nullptr : foreign[v].data();
+    const ForeignLight* lights_end = foreign.empty() ? nullptr : light + foreign[v].size();
+    for (int u = 0; u < cols; ++u) {
+      const size_t index = static_cast<size_t>(v) * cols + u;
+      const SurfaceSample& sample = samples[index];
+      const float coverage = std::isnan(sample.stripe)
+                                 ? 0.f
+                                 : litCoverage(sample.stripe, footprint[index], lit, stripes);
+      out[u] = sample.ambient_level + sample.projector_level * coverage;
+      // Other pairs' stripes, point-sampled (they only need to corrupt, not to decode).
+      for (; light != lights_end && light->u == u; ++light)
+        out[u] += light->level * lit[std::clamp(static_cast<int>(light->stripe), 0, stripes - 1)];
     }
-  };
-  auto optics = [&](cv::Mat& image) {
-    if (sensor.blur_sigma > 0)
-      cv::GaussianBlur(image, image, cv::Size(0, 0), sensor.blur_sigma, sensor.blur_sigma,
-                       cv::BORDER_REPLICATE);
-  };
+  }
+}
 
+RenderedPatternSet VirtualPair::render(
+    uint32_t scan_id, const std::vector<const VirtualPair*>& also_projecting) const {
+  if (camera_rays_.empty())
+    throw std::logic_error("VirtualPair::render on a projector-only pair (" + config_.pair_id +
+                           ")");
+  const SensorModel& sensor = config_.sensor;
+  const int rows = config_.camera.height, cols = config_.camera.width;
+  RenderedPatternSet result;
+  // What each pixel sees (shared by all frames), and the other pairs' light on it.
+  std::vector<SurfaceSample> samples(static_cast<size_t>(rows) * cols);
+  std::vector<std::vector<ForeignLight>> foreign(also_projecting.empty() ? 0 : rows);
+  traceSurfaces(also_projecting, result.truth, samples, foreign);
+  // Stripe footprint of each pixel: how much of the coordinate its area spans (antialiasing
+  // keeps the subpixel position of stripe edges in the image, as a real sensor does).
+  const std::vector<float> footprint = stripeFootprints(samples, rows, cols);
+  const std::vector<std::vector<uint8_t>> lights = litStripes(layout_);
+
+  const int frames = layout_.frameCount();
   result.frames.resize(frames);
   cv::parallel_for_(cv::Range(0, frames), [&](const cv::Range& range) {
     cv::Mat1f image(rows, cols);
     for (int f = range.start; f < range.end; ++f) {
-      const std::vector<uint8_t>& lit = lights[f];
-      for (int v = 0; v < rows; ++v) {
-        float* out = image.ptr<float>(v);
-        const ForeignLight* light = foreign.empty() ? nullptr : foreign[v].data();
-        const ForeignLight* lights_end = foreign.empty() ? nullptr : light + foreign[v].size();
-        for (int u = 0; u < cols; ++u) {
-          const size_t index = static_cast<size_t>(v) * cols + u;
-          const SurfaceSample& sample = samples[index];
-          float coverage = 0;
-          if (!std::isnan(sample.stripe)) {
-            const float width = footprint[index];
-            if (width < 1e-3f) {
-              coverage = lit[std::clamp(static_cast<int>(sample.stripe), 0, stripes - 1)];
-            } else {
-              // Box filter of the lit stripes over [s - width/2, s + width/2].
-              const float lo = sample.stripe - 0.5f * width, hi = sample.stripe + 0.5f * width;
-              for (int k = static_cast<int>(std::floor(lo)); k <= static_cast<int>(std::floor(hi));
-                   ++k)
-                if (k >= 0 && k < stripes && lit[k])
-                  coverage += std::min(hi, k + 1.f) - std::max(lo, static_cast<float>(k));
-              coverage /= width;
-            }
-          }
-          out[u] = sample.ambient_level + sample.projector_level * coverage;
-          // Other pairs' stripes, point-sampled (they only need to corrupt, not to decode).
-          for (; light != lights_end && light->u == u; ++light)
-            out[u] +=
-                light->level * lit[std::clamp(static_cast<int>(light->stripe), 0, stripes - 1)];
-        }
-      }
-      optics(image);
-      add_noise(image, static_cast<uint64_t>(f) + 1, result.frames[f]);
+      shadeFrame(lights[f], samples, footprint, foreign, image);
+      applyOptics(sensor, image);
+      addNoise(image, sensor, noise_, scan_id, static_cast<uint64_t>(f) + 1, result.frames[f]);
     }
   });
 
   cv::Mat3f texture(rows, cols);
   for (int v = 0; v < rows; ++v)
     for (int u = 0; u < cols; ++u) texture(v, u) = samples[static_cast<size_t>(v) * cols + u].color;
-  optics(texture);
-  add_noise(texture, 0, result.texture);
+  applyOptics(sensor, texture);
+  addNoise(texture, sensor, noise_, scan_id, 0, result.texture);
   return result;
 }
 

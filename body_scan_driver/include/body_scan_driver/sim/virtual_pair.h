@@ -117,6 +117,17 @@ class VirtualPair {
                const Eigen::Vector3d& point_world, double albedo, float& stripe,
                float& level) const;
   double trueStripe(const Eigen::Vector3d& point_camera, SweptLaserProjector::Plane* plane) const;
+  // render's steps. traceSurfaces: what each pixel sees (the ground truth, samples) and the
+  // light of also_projecting there (foreign, per row, by increasing column).
+  void traceSurfaces(const std::vector<const VirtualPair*>& also_projecting, GroundTruth& truth,
+                     std::vector<SurfaceSample>& samples,
+                     std::vector<std::vector<ForeignLight>>& foreign) const;
+  static std::vector<float> stripeFootprints(const std::vector<SurfaceSample>& samples, int rows,
+                                             int cols);
+  // One frame's image before optics and noise: lit[k] whether the frame lights stripe k.
+  void shadeFrame(const std::vector<uint8_t>& lit, const std::vector<SurfaceSample>& samples,
+                  const std::vector<float>& footprint,
+                  const std::vector<std::vector<ForeignLight>>& foreign, cv::Mat1f& image) const;
 
   VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> scene, bool with_camera);
 
