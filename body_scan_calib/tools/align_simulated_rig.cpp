@@ -13,6 +13,8 @@
 #include <optional>
 #include <string>
 
+#include "calibration_outputs.h"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -31,8 +33,6 @@ std::optional<int> parseOptions(int argc, char** argv, Options& options) {
       "cylinder scene, then align_world's fit (eq 4.1) and E_h report (eq 4.2) run on those "
       "captures, with each pair's error against the simulator's truth.",
       "align_simulated_rig");
-  const char* home = std::getenv("HOME");
-  options.files.calibration_out = std::string(home ? home : ".") + "/.ros/body_scan/calibration";
   app.add_option("--scene", options.scene,
                  "cylinder scene (default: body_scan_driver's "
                  "config/scenes/calibration_cylinder.yaml)")
@@ -45,12 +45,7 @@ std::optional<int> parseOptions(int argc, char** argv, Options& options) {
   app.add_option("--calibration-in", options.calibration_in,
                  "pair calibrations to align, <pole>_<pair>.yaml (the simulator's factory "
                  "calibration for a pair without a file)");
-  app.add_option("--calibration-out", options.files.calibration_out, "aligned calibrations")
-      ->capture_default_str();
-  app.add_option("--report", options.files.report, "YAML report")->capture_default_str();
-  app.add_option("--plot", options.files.plot,
-                 "PNG: the aligned points on the unrolled cylinder, E_h per shared point against "
-                 "height (default: the report's path with .png)");
+  body_scan_calib::tools::addWorldAlignmentOutputs(app, options.files);
   return body_scan_driver::tools::parseCommandLine(app, argc, argv);
 }
 

@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "calibration_outputs.h"
+
 namespace {
 
 struct Options {
@@ -25,8 +27,6 @@ std::optional<int> parseOptions(int argc, char** argv, Options& options) {
       "and a YAML report with E_h (eq 4.2) over the points seen by two pairs. Reads the pairs' "
       "captures from a folder; align_simulated_rig renders them with the virtual pairs instead.",
       "align_world");
-  const char* home = std::getenv("HOME");
-  options.files.calibration_out = std::string(home ? home : ".") + "/.ros/body_scan/calibration";
   app.add_option("--images", options.images,
                  "one folder per pair as written by align_simulated_rig --save-images: "
                  "frame_NN.png in pattern order, texture.png, capture.yaml (pair_id, bits, "
@@ -34,12 +34,7 @@ std::optional<int> parseOptions(int argc, char** argv, Options& options) {
       ->required();
   app.add_option("--calibration-in", options.calibration_in,
                  "pair calibrations to align, <pole>_<pair>.yaml (one per pair folder)");
-  app.add_option("--calibration-out", options.files.calibration_out, "aligned calibrations")
-      ->capture_default_str();
-  app.add_option("--report", options.files.report, "YAML report")->capture_default_str();
-  app.add_option("--plot", options.files.plot,
-                 "PNG: the aligned points on the unrolled cylinder, E_h per shared point against "
-                 "height (default: the report's path with .png)");
+  body_scan_calib::tools::addWorldAlignmentOutputs(app, options.files);
   return body_scan_driver::tools::parseCommandLine(app, argc, argv);
 }
 

@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "calibration_outputs.h"
+
 namespace {
 
 struct Arguments {
@@ -41,13 +43,8 @@ std::optional<int> parse(int argc, char** argv, Arguments& arguments) {
   app.add_option("--bits", arguments.bits, "Gray code bits of the captures")
       ->capture_default_str()
       ->check(CLI::Range(body_scan_driver::kMinBits, body_scan_driver::kMaxBits));
-  app.add_option("--output", arguments.files.calibration, "calibration file")
-      ->capture_default_str();
-  app.add_option("--report", arguments.files.report, "accuracy report")->capture_default_str();
-  app.add_option("--plot", arguments.files.plot, "projector parameters plot")
-      ->capture_default_str();
   bool no_refinement = false;
-  app.add_flag("--no-refinement", no_refinement, "skip the joint Ceres refinement");
+  body_scan_calib::tools::addPairCalibrationOutputs(app, arguments.files, no_refinement);
   if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv)) return status;
   arguments.refinement = !no_refinement;
   return std::nullopt;

@@ -11,6 +11,8 @@
 #include <optional>
 #include <string>
 
+#include "calibration_outputs.h"
+
 namespace {
 
 struct Arguments {
@@ -37,15 +39,10 @@ std::optional<int> parse(int argc, char** argv, Arguments& arguments) {
                  "frames averaged per pattern for the static targets")
       ->capture_default_str()
       ->check(body_scan_driver::tools::atLeast(1));
-  app.add_option("--output", arguments.files.calibration, "calibration file")
-      ->capture_default_str();
-  app.add_option("--report", arguments.files.report, "accuracy report")->capture_default_str();
-  app.add_option("--plot", arguments.files.plot, "projector parameters plot")
-      ->capture_default_str();
   app.add_option("--save-images", arguments.save_images,
                  "also write the captures in the layout of calibrate_pair --images");
   bool no_refinement = false;
-  app.add_flag("--no-refinement", no_refinement, "skip the joint Ceres refinement");
+  body_scan_calib::tools::addPairCalibrationOutputs(app, arguments.files, no_refinement);
   if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv)) return status;
   arguments.refinement = !no_refinement;
   return std::nullopt;
