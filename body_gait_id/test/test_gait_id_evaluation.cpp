@@ -197,7 +197,7 @@ TEST(GaitIdEvaluation, LearnedProjectionsIdentifyToo) {
   }
 }
 
-// Issue 7: the CMU walks (body_scan_driver/data/cmu_walks) as the people, models read off
+// The CMU walks (body_scan_driver/data/cmu_walks) as the people, models read off
 // their skeletons (no scan, no fit: fast, and the upper bound of the features on real walks).
 // Every probe frame of another walk finds its person; a person with one walk is refused.
 TEST(GaitIdEvaluation, MotionCaptureWalksAsPeople) {

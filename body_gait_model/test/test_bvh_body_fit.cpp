@@ -1,4 +1,4 @@
-// Issue 7 on a real walk: the CMU walk 07_02 (motion capture, body_scan_driver/data/cmu_walks)
+// The fitter on a real walk: the CMU walk 07_02 (motion capture, body_scan_driver/data/cmu_walks)
 // drives the simulated body; its 4 representative poses of 5.3 are scanned by the full
 // scanner and fitted; errors are against the BVH joints. Figures: evaluate_body_fit --bvh.
 #include <body_gait_model/body_fitter.h>

@@ -1,4 +1,4 @@
-// Evaluation CLI of gait recognition (issue 6 item 5; thesis 5.8.3-5.8.4): simulated people
+// Evaluation CLI of gait recognition (thesis 5.8.3-5.8.4): simulated people
 // walk through the scanner, every representative pose is scanned and fitted, gait cycles are
 // reconstructed and identified; prints a table beside the thesis's figures and writes a YAML
 // report and a CMC / ROC plot.
@@ -14,7 +14,7 @@
 //                    [--report FILE.yaml] [--plot FILE.png] [--quiet]
 //                    [--bvh [PERSON=]WALK.bvh,... [--bvh-map MAP.yaml]]
 //
-// --bvh (issue 7): the people are motion-capture walks instead of simulated people; walk t of a
+// --bvh: the people are motion-capture walks instead of simulated people; walk t of a
 // person is trial t (the cross-walk protocol needs 2 walks per person), its 4 poses are the ones
 // body_scan_driver's pickGaitPoses finds; PERSON defaults to the file name up to its first '_'
 // (CMU: 07_02.bvh -> 07). --bvh-map: the joint map (default: the CMU map of body_scan_driver).
@@ -25,7 +25,7 @@
 // probe with walk N (default 1).
 // --per-walk (cross-walk) adds the 3D rows with one decision per probe walk (the mean of a
 // subject's scores over the walk's 20 frames) beside the per-frame decisions.
-// Beyond the thesis (issue 6, cross-walk): --shape adds the 3D dynamic+static+shape row
+// Beyond the thesis (cross-walk): --shape adds the 3D dynamic+static+shape row
 // (bodyShapeFeatures); --noise-seed S2 fits N2 (default 50) other people (seed S2, two walks) to
 // learn each feature component's within-subject noise (--noise-first K: persons K..K+N2-1 of
 // seed S2, so with S2 = S and K >= N the test seed's later people serve) and adds the
