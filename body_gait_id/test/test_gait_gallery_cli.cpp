@@ -5,6 +5,7 @@
 #include <body_gait_model/eval/gait_subjects.h>
 #include <body_gait_model/eval/skeleton_model.h>
 #include <gtest/gtest.h>
+#include <ros/package.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,6 +15,11 @@
 
 namespace body_gait_id {
 namespace {
+
+// The shipped noise weights of the sampler rig (config/), found through rospack.
+std::string featureNoiseFile() {
+  return ros::package::getPath("body_gait_id") + "/config/feature_noise_sampler.yaml";
+}
 
 namespace fs = std::filesystem;
 
@@ -104,8 +110,8 @@ TEST_F(GaitGalleryCli, ShapeMedianAndNoiseWeights) {
   ASSERT_EQ(r.status, 0) << r.output;
   r = run("enroll --name Ben --walk-body median --models " + models_file(1));
   ASSERT_EQ(r.status, 0) << r.output;
-  r = run("identify --feature-set dynamic_static_shape --feature-noise " +
-          std::string(FEATURE_NOISE_FILE) + " --models " + models_file(1));
+  r = run("identify --feature-set dynamic_static_shape --feature-noise " + featureNoiseFile() +
+          " --models " + models_file(1));
   ASSERT_EQ(r.status, 0) << r.output;
   // The median body differs from each single fit only where the four fits differ (true models:
   // they do not), so the own poses match exactly.
@@ -116,7 +122,7 @@ TEST_F(GaitGalleryCli, ShapeMedianAndNoiseWeights) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("feature noise file '/nonexistent/noise.yaml'"), std::string::npos)
       << r.output;
-  r = run("identify --view side --feature-noise " + std::string(FEATURE_NOISE_FILE) + " --models " +
+  r = run("identify --view side --feature-noise " + featureNoiseFile() + " --models " +
           models_file(1));
   EXPECT_EQ(r.status, 1);  // the noise is 3D
   EXPECT_NE(r.output.find("learn the noise on the same view"), std::string::npos) << r.output;

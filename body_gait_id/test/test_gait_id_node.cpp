@@ -12,6 +12,7 @@
 #include <body_scan_msgs/RemoveSubject.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <ros/package.h>
 #include <ros/ros.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -27,6 +28,11 @@
 
 namespace body_gait_id {
 namespace {
+
+// The shipped noise weights of the sampler rig (config/), found through rospack.
+std::string featureNoiseFile() {
+  return ros::package::getPath("body_gait_id") + "/config/feature_noise_sampler.yaml";
+}
 
 namespace fs = std::filesystem;
 constexpr int kPeople = 6;
@@ -276,7 +282,7 @@ TEST_F(GaitIdNodeTest, ShapeFeaturesAndNoiseWeightsThroughParameters) {
   {
     NodeProcess node("gait_id_shaped", database, (dir_ / "shaped.log").string(),
                      {"_feature_set:=dynamic_static_shape", "_walk_body:=median",
-                      std::string("_feature_noise:=") + FEATURE_NOISE_FILE});
+                      "_feature_noise:=" + featureNoiseFile()});
     ASSERT_TRUE(node.waitForServices()) << node.log();
     for (int person = 0; person < kPeople; ++person) {
       const auto srv = node.call("enroll", enrolment(person));

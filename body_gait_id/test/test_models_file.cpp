@@ -2,6 +2,7 @@
 #include <body_gait_id/feature_noise_file.h>
 #include <body_gait_id/models_file.h>
 #include <gtest/gtest.h>
+#include <ros/package.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
@@ -11,6 +12,11 @@
 
 namespace body_gait_id {
 namespace {
+
+// The shipped noise weights of the sampler rig (config/), found through rospack.
+std::string featureNoiseFile() {
+  return ros::package::getPath("body_gait_id") + "/config/feature_noise_sampler.yaml";
+}
 
 namespace fs = std::filesystem;
 
@@ -158,7 +164,7 @@ TEST_F(ModelsFileTest, FeatureNoiseRoundTripAndErrors) {
       << error(negative);
   EXPECT_NE(error("{").find(path), std::string::npos);
   // The shipped file is valid.
-  EXPECT_NO_THROW(readFeatureNoise(FEATURE_NOISE_FILE));
+  EXPECT_NO_THROW(readFeatureNoise(featureNoiseFile()));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // their fields; unknown keys, wrong types and missing files are errors naming the problem.
 #include <body_gait_model/fit_options_file.h>
 #include <gtest/gtest.h>
+#include <ros/package.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -17,7 +18,9 @@ std::string writeTemp(const std::string& text) {
 }
 
 TEST(FitOptionsFile, ShippedConfigHoldsTheDefaults) {
-  const FitOptions read = loadFitOptions(BODY_FITTER_YAML), defaults;
+  const FitOptions read = loadFitOptions(ros::package::getPath("body_gait_model") +
+                                         "/config/body_fitter.yaml"),
+                   defaults;
   EXPECT_EQ(read.refine, defaults.refine);
   EXPECT_EQ(read.torso.sectors, defaults.torso.sectors);
   EXPECT_DOUBLE_EQ(read.quality.max_rms, defaults.quality.max_rms);

@@ -11,6 +11,7 @@
 #include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <body_scan_driver/stripe_decoder.h>
+#include <body_scan_driver/tools/package_file.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -26,7 +27,8 @@ using namespace body_scan_calib;
 
 namespace {
 
-const std::string kAlignmentConfig = BODY_SCAN_CALIB_CONFIG_DIR "/alignment/";
+const std::string kAlignmentConfig =
+    body_scan_driver::tools::packageDir("body_scan_calib") + "/config/alignment/";
 const std::string kCylinderScene =
     body_scan_driver::sim::driverConfigDir() + "/scenes/calibration_cylinder.yaml";
 const char* kRig[] = {"pole_a_pair_1", "pole_a_pair_2", "pole_b_pair_1", "pole_b_pair_2"};

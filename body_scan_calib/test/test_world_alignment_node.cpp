@@ -5,6 +5,7 @@
 #include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <body_scan_driver/stripe_decoder.h>
+#include <body_scan_driver/tools/package_file.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -23,7 +24,8 @@ using namespace body_scan_calib;
 
 namespace {
 
-const std::string kAlignmentConfig = BODY_SCAN_CALIB_CONFIG_DIR "/alignment/";
+const std::string kAlignmentConfig =
+    body_scan_driver::tools::packageDir("body_scan_calib") + "/config/alignment/";
 const std::string kCylinderScene =
     body_scan_driver::sim::driverConfigDir() + "/scenes/calibration_cylinder.yaml";
 

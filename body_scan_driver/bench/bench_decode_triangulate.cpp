@@ -16,6 +16,7 @@
 // scripts/bench_report.py takes the medians and prints the ratios against .../ours.
 #include <benchmark/benchmark.h>
 #include <body_scan_driver/pair_device.h>
+#include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
@@ -50,8 +51,8 @@ const SceneSets& scene(const std::string& name) {
     config.world_from_camera = sim::cameraPose({0, 0, 0}, 0, 0);
   } else {
     world = std::make_shared<sim::Scene>(
-        sim::loadScene(BODY_SCAN_DRIVER_CONFIG_DIR "/scenes/standing_person.yaml"));
-    config = sim::loadVirtualPairConfig(BODY_SCAN_DRIVER_CONFIG_DIR "/pairs/default_pair.yaml");
+        sim::loadScene(sim::driverConfigDir() + "/scenes/standing_person.yaml"));
+    config = sim::loadVirtualPairConfig(sim::driverConfigDir() + "/pairs/default_pair.yaml");
   }
   entry.pair = std::make_unique<sim::VirtualPair>(config, world);
   const std::vector<cv::Mat> frames = entry.pair->render(1).frames;

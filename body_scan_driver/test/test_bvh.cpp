@@ -3,6 +3,7 @@
 // seed corpus.
 #include <body_scan_driver/sim/bvh.h>
 #include <body_scan_driver/sim/data_paths.h>
+#include <body_scan_driver/tools/package_file.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,6 +17,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
 namespace body_scan_driver::sim {
 namespace {
+
+// Seed files of the BVH fuzz target (fuzz/corpus): valid and malformed motion capture.
+std::string fuzzCorpus() {
+  return body_scan_driver::tools::packageDir("body_scan_driver") + "/fuzz/corpus";
+}
 
 namespace fs = std::filesystem;
 
@@ -32,8 +38,7 @@ const char* const kCmuWalks[] = {"07_02", "07_08", "08_03", "08_08", "35_01", "3
   EXPECT_LT(((actual)-Eigen::Vector3d(ex, ey, ez)).norm(), tolerance) << (actual).transpose()
 
 TEST(Bvh, TwoJointsPoseAsComputedByHand) {
-  const BvhMotion motion =
-      loadBvh(std::string(BODY_SCAN_DRIVER_FUZZ_CORPUS) + "/valid_two_joints.bvh");
+  const BvhMotion motion = loadBvh(fuzzCorpus() + "/valid_two_joints.bvh");
   ASSERT_EQ(motion.joints.size(), 2u);
   EXPECT_EQ(motion.channel_count, 9);
   EXPECT_EQ(motion.frames.size(), 2u);
@@ -164,8 +169,7 @@ TEST(Bvh, CrlfLineEndingsAndPlusSignsAreAccepted) {
 // once found stays fixed in CI. Aborts (test crash) on a finding.
 TEST(Bvh, FuzzEntryPointAcceptsTheSeedCorpus) {
   std::vector<fs::path> seeds;
-  for (const auto& entry : fs::directory_iterator(BODY_SCAN_DRIVER_FUZZ_CORPUS))
-    seeds.push_back(entry.path());
+  for (const auto& entry : fs::directory_iterator(fuzzCorpus())) seeds.push_back(entry.path());
   ASSERT_GE(seeds.size(), 5u);
   for (const char* walk : kCmuWalks) seeds.push_back(cmuWalksDir() + "/" + walk + ".bvh");
   for (const fs::path& seed : seeds) {

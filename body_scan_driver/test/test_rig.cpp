@@ -4,6 +4,7 @@
 #include <body_scan_driver/sim/decoding_errors.h>
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_driver/stripe_decoder.h>
+#include <body_scan_driver/tools/package_file.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -17,7 +18,7 @@ using namespace body_scan_driver;
 
 namespace {
 
-const std::string kConfigDir = BODY_SCAN_DRIVER_CONFIG_DIR;
+const std::string kConfigDir = body_scan_driver::tools::packageDir("body_scan_driver") + "/config";
 
 std::string writeRig(const std::string& text) {
   const std::string path = std::filesystem::temp_directory_path() /
