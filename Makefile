@@ -10,7 +10,7 @@
 #   make deps    install missing Debian packages (no-op when all are installed)
 #   make build   configure + build all packages into build/ (devel space build/devel, install
 #                space build/install)
-#   make test    build + run every gtest/rostest; last line: "N passed, N failed[, N skipped]"
+#   make test    build + run every gtest/rostest; last line: "N passed, N failed, N skipped"
 #   make demo    build + scripts/demo.sh
 #   make bench   build + run every build/devel/lib/*/bench_* (JSON into build/bench/);
 #                BENCH_ARGS="..." is passed to each (e.g. --benchmark_filter=plane/hot)
@@ -92,9 +92,9 @@ build: deps
 
 # test: build the test binaries, run all gtests and rostests through catkin's run_tests
 # (JUnit XML into build/test_results), then summarise with scripts/test_summary.py, whose
-# "N passed, N failed[, N skipped]" line is the last line of the target's standard output.
+# "N passed, N failed, N skipped" line is the last line of the target's standard output.
 # ROS_HOME/ROS_LOG_DIR live in build/ros_home and the master port is a fresh free one.
-# Even when the build fails, the summary ("0 passed, 0 failed") is printed and written.
+# Even when the build fails, the summary ("0 passed, 0 failed, 0 skipped") is printed and written.
 test: deps
 	@rm -rf $(BUILD_DIR)/test_results $(BUILD_DIR)/test_summary.txt
 	@if ! { $(MAKE) build && $(MAKE) -C $(BUILD_DIR) -j$(JOBS) tests; }; then \

@@ -21,7 +21,7 @@ Special cases:
     failures, errors and skips are.
 
 Prints one `FAILED: suite.case (file)` line per failure, then as the very last line
-`N passed, N failed` (with `, N skipped` appended only when N > 0). With --write FILE the
+`N passed, N failed, N skipped`. With --write FILE the
 last line is also written to FILE. Exit status 1 if anything failed or nothing ran.
 """
 
@@ -115,9 +115,8 @@ def main(argv=None):
         print(line)
     if counts["passed"] + counts["failed"] == 0:
         print("no tests ran")
-    line = "%d passed, %d failed" % (counts["passed"], counts["failed"])
-    if counts["skipped"]:
-        line += ", %d skipped" % counts["skipped"]
+    line = "%d passed, %d failed, %d skipped" % (counts["passed"], counts["failed"],
+                                                  counts["skipped"])
     if args.write:
         with open(args.write, "w") as out:
             out.write(line + "\n")
