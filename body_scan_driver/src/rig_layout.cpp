@@ -71,6 +71,7 @@ RigLayout loadRigLayout(const std::string& path) {
           heading_deg + optionalOr<double>(pair, "yaw_offset_deg", 0.0, pair_where);
       layout.world_from_camera =
           cameraPose({xy[0], xy[1], height}, yaw_deg * kDegree, pitch_deg * kDegree);
+      if (const YAML::Node device = pair["device"]) layout.device = YAML::Clone(device);
       rig.pairs.push_back(std::move(layout));
     }
   }
@@ -92,13 +93,7 @@ Eigen::Isometry3d pairPoseFromYaml(const YAML::Node& pose, const std::string& wh
 }
 
 Eigen::Isometry3d loadPairFilePose(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error("cannot read pair file '" + path + "': " + e.what() +
-                             " (check the path and the YAML syntax)");
-  }
+  const YAML::Node root = loadYamlFile(path, "pair");
   if (!root.IsMap()) throw std::runtime_error(path + " must be a map of key: value");
   return pairPoseFromYaml(root["pose"], path + ": pose");
 }

@@ -5,6 +5,8 @@
 // (sim/rig.h) adds the virtual pairs' models to the same layout. Also the pose of a pair file.
 #pragma once
 
+#include <yaml-cpp/yaml.h>
+
 #include <Eigen/Geometry>
 #include <string>
 #include <vector>
@@ -14,6 +16,8 @@ namespace body_scan_driver {
 struct RigPairLayout {
   std::string pair_id;  // "<pole>/<pair>"
   Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();
+  YAML::Node device;  // the pair's `device:` map as written (null without one): the real
+                      // pair's ids, checked and read by the usb backend (hw/rig_device_ids.h)
 };
 
 struct RigLayout {
@@ -27,8 +31,8 @@ struct RigLayout {
 };
 
 // Throws std::runtime_error naming the file, the pole or pair and the bad key. The keys of the
-// simulator (pair_defaults, a pair's seed) and of the hardware (a pair's device) are accepted
-// and left to their readers.
+// simulator (pair_defaults, a pair's seed) and of the hardware (a pair's device map) are
+// accepted and left to their readers.
 RigLayout loadRigLayout(const std::string& path);
 
 // The world pose of a pair file's pair (its `pose:` map: position, yaw_deg, pitch_deg;

@@ -1,4 +1,5 @@
 #include <body_scan_driver/hw/rig_device_ids.h>
+#include <body_scan_driver/rig_layout.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -40,28 +41,15 @@ PairDeviceIds readDevice(const YAML::Node& device, const std::string& where) {
 }  // namespace
 
 PairDeviceIds loadPairDeviceIds(const std::string& rig_file, const std::string& pair_id) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(rig_file);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error("cannot read rig file '" + rig_file + "': " + e.what() +
-                             " (check the path and the YAML syntax)");
+  const RigLayout rig = loadRigLayout(rig_file);  // the one reader of the rig file's layout
+  for (const RigPairLayout& pair : rig.pairs) {
+    if (pair.pair_id != pair_id) continue;
+    return !pair.device.IsNull()
+               ? readDevice(pair.device, rig_file + ": pair " + pair_id + ", device")
+               : PairDeviceIds{};
   }
-  const YAML::Node poles = root["poles"];
-  if (!poles || !poles.IsSequence())
-    throw std::runtime_error(rig_file + ": 'poles' must be a list of poles");
   std::string ids;
-  for (const YAML::Node& pole : poles) {
-    const std::string pole_name = pole["name"] ? pole["name"].as<std::string>() : "";
-    if (!pole["pairs"] || !pole["pairs"].IsSequence()) continue;
-    for (const YAML::Node& pair : pole["pairs"]) {
-      const std::string id = pole_name + "/" + (pair["name"] ? pair["name"].as<std::string>() : "");
-      ids += (ids.empty() ? "" : ", ") + id;
-      if (id != pair_id) continue;
-      const YAML::Node device = pair["device"];
-      return device ? readDevice(device, rig_file + ": pair " + id + ", device") : PairDeviceIds{};
-    }
-  }
+  for (const std::string& id : rig.pairIds()) ids += (ids.empty() ? "" : ", ") + id;
   throw std::runtime_error("pair '" + pair_id + "' is not in rig file '" + rig_file +
                            "'; its pairs: " + ids);
 }

@@ -1,6 +1,6 @@
 // Which hardware a pair of a rig is: the optional `device:` map of a pair in a rig file
-// (config/rigs/thesis_rig.yaml documents the format). Read by the usb backend without the
-// simulator's rig reader; the node's private parameters override every id.
+// (config/rigs/thesis_rig.yaml documents the format), found through the rig layout
+// (rig_layout.h), not the simulator; the node's private parameters override every id.
 #pragma once
 
 #include <optional>
