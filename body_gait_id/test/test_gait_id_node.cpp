@@ -56,14 +56,16 @@ class NodeProcess {
     std::vector<std::string> args{GAIT_ID_NODE, "__name:=" + name, "_database:=" + database,
                                   "_accept_threshold:=3.0"};
     args.insert(args.end(), params.begin(), params.end());
+    // Everything the child needs is made before fork: this process runs ROS threads, and a
+    // child that allocates can deadlock on a malloc lock another thread held at the fork.
+    std::vector<char*> argv;
+    for (std::string& arg : args) argv.push_back(arg.data());
+    argv.push_back(nullptr);
     pid_ = fork();
     if (pid_ == 0) {
       const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       dup2(fd, 1);
       dup2(fd, 2);
-      std::vector<char*> argv;
-      for (std::string& arg : args) argv.push_back(arg.data());
-      argv.push_back(nullptr);
       execv(GAIT_ID_NODE, argv.data());
       _exit(127);
     }
