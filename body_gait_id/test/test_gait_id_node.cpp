@@ -72,9 +72,8 @@ class NodeProcess {
   }
   ~NodeProcess() {
     stop();
-    if (::testing::Test::HasFailure())  // the node's side of a failure
-      std::printf("---- %s output ----\n%s---- end of %s ----\n", name_.c_str(), log().c_str(),
-                  name_.c_str());
+    if (::testing::Test::HasFailure())  // the node's side of a failure, in the test's result
+      ADD_FAILURE() << "---- " << name_ << " output (last lines) ----\n" << logTail(8);
   }
   bool waitForServices() const {
     return ros::service::waitForService("/" + name_ + "/list", ros::Duration(20));
@@ -96,6 +95,13 @@ class NodeProcess {
     std::stringstream text;
     text << in.rdbuf();
     return text.str();
+  }
+  std::string logTail(std::size_t lines) const {
+    const std::string text = log();
+    std::size_t start = text.size();
+    for (std::size_t seen = 0; start > 0 && seen <= lines;)
+      if (text[--start] == '\n') ++seen;
+    return text.substr(start);
   }
   template <typename Service>
   Service call(const std::string& service, Service srv = {}) const {
