@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -230,7 +231,27 @@ TEST_F(GaitIdNodeTest, EnrolRestartIdentifySameAnswers) {
     EXPECT_EQ(identities[0].name, people_[person].name);
     EXPECT_DOUBLE_EQ(identities[0].score, before[9].score);
     EXPECT_EQ(identities[0].accepted, before[9].score <= 3.0);
+
+    // A refused enrolment names the bad field (and not the person) in the reply.
+    body_scan_msgs::EnrollSubject refused = enrolment(0);
+    refused.request.poses[2].q[3] = std::nan("");
+    const std::string message = node.call("enroll", refused).response.message;
+    EXPECT_NE(message.find("BodyModel.q[3] is not finite"), std::string::npos) << message;
   }  // the first node stops here
+
+  // Biometric hygiene: names stay out of the node's log above DEBUG (its whole output at the
+  // default level, after enrolments, identifications and a refusal), and the gallery file it
+  // created is its owner's only.
+  {
+    std::ifstream in(dir_ / "first.log");
+    std::stringstream log;
+    log << in.rdbuf();
+    ASSERT_NE(log.str().find("enrolled subject"), std::string::npos) << log.str();
+    for (const auto& person : people_)
+      EXPECT_EQ(log.str().find(person.name), std::string::npos) << person.name << " logged";
+    EXPECT_EQ(fs::status(database).permissions() & fs::perms::all,
+              fs::perms::owner_read | fs::perms::owner_write);
+  }
 
   NodeProcess node("gait_id_second", database, (dir_ / "second.log").string());
   ASSERT_TRUE(node.waitForServices()) << node.log();
