@@ -15,12 +15,15 @@
 #include <ros/package.h>
 #include <ros/ros.h>
 #include <signal.h>
+#include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -352,6 +355,85 @@ TEST_F(GaitIdNodeTest, CorruptGalleryIsReportedAndTheNodeKeepsRunning) {
   EXPECT_FALSE(node.call<body_scan_msgs::ListSubjects>("list").response.success);
   EXPECT_TRUE(node.alive());
   EXPECT_NE(node.log().find("file is not a database"), std::string::npos) << node.log();
+}
+
+// The gallery's file system full, then read-only, during enrolment: the enrolment fails with an
+// error naming the file and the fix, the node keeps running, and the gallery holds exactly the
+// subjects enrolled before (also for a new node on the file). A small tmpfs when the test may
+// mount one (root), else a read-only directory (the read-only half only).
+TEST_F(GaitIdNodeTest, FullOrReadOnlyDiskFailsEnrolmentAndKeepsTheGallery) {
+  const fs::path volume = dir_ / "volume";
+  fs::create_directories(volume);
+  const bool tmpfs = mount("tmpfs", volume.c_str(), "tmpfs", 0, "size=4m,mode=0700") == 0;
+  if (!tmpfs && geteuid() == 0) GTEST_SKIP() << "root but cannot mount a tmpfs here";
+  struct Unmount {
+    fs::path path;
+    bool mounted;
+    ~Unmount() {
+      if (mounted) umount2(path.c_str(), MNT_DETACH);
+      fs::permissions(path, fs::perms::owner_all, fs::perm_options::add);
+    }
+  } unmount{volume, tmpfs};
+  const std::string database = (volume / "gallery.db").string();
+  auto names = [](const NodeProcess& node) {
+    const auto list = node.call<body_scan_msgs::ListSubjects>("list");
+    EXPECT_TRUE(list.response.success) << list.response.message;
+    return list.response.names;
+  };
+  auto expectCannotWrite = [&](const body_scan_msgs::EnrollSubject& enrol) {
+    EXPECT_FALSE(enrol.response.success);
+    EXPECT_NE(enrol.response.message.find("cannot write gallery database '" + database + "'"),
+              std::string::npos)
+        << enrol.response.message;
+    std::printf("[ figure ] enrolment refused: %s\n", enrol.response.message.c_str());
+  };
+  std::vector<std::string> enrolled;
+  {
+    NodeProcess node("gait_id_disk", database, (dir_ / "disk.log").string());
+    ASSERT_TRUE(node.waitForServices()) << node.log();
+    ASSERT_TRUE(node.call("enroll", enrolment(0)).response.success);
+    enrolled.push_back(people_[0].name);
+    if (tmpfs) {  // fill the file system, enrol, free the space, enrol again
+      {
+        std::ofstream filler(volume / "filler", std::ios::binary);
+        const std::string block(4096, 'f');
+        while (filler.write(block.data(), block.size()) && filler.flush()) {
+        }
+      }
+      expectCannotWrite(node.call("enroll", enrolment(1)));
+      EXPECT_EQ(names(node), enrolled);
+      fs::remove(volume / "filler");
+      ASSERT_TRUE(node.call("enroll", enrolment(1)).response.success);
+      enrolled.push_back(people_[1].name);
+      EXPECT_TRUE(node.alive());
+    }
+  }
+  // Read-only: the volume remounted so (a file system with open writers cannot be), or, not
+  // root, the directory and its files made read-only; a node started on it cannot enrol.
+  if (tmpfs) {
+    ASSERT_EQ(mount(nullptr, volume.c_str(), nullptr, MS_REMOUNT | MS_RDONLY, "size=4m"), 0)
+        << std::strerror(errno);
+  } else {
+    for (const auto& entry : fs::directory_iterator(volume))
+      fs::permissions(entry.path(), fs::perms::owner_read);
+    fs::permissions(volume, fs::perms::owner_read | fs::perms::owner_exec);
+  }
+  {
+    NodeProcess node("gait_id_readonly", database, (dir_ / "readonly.log").string());
+    ASSERT_TRUE(node.waitForServices()) << node.log();
+    expectCannotWrite(node.call("enroll", enrolment(2)));
+    EXPECT_TRUE(node.alive());
+  }
+  if (tmpfs) {
+    ASSERT_EQ(mount(nullptr, volume.c_str(), nullptr, MS_REMOUNT, "size=4m"), 0);
+  } else {
+    fs::permissions(volume, fs::perms::owner_all);
+    for (const auto& entry : fs::directory_iterator(volume))
+      fs::permissions(entry.path(), fs::perms::owner_read | fs::perms::owner_write);
+  }
+  NodeProcess reopened("gait_id_reopened", database, (dir_ / "reopened.log").string());
+  ASSERT_TRUE(reopened.waitForServices()) << reopened.log();
+  EXPECT_EQ(names(reopened), enrolled);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <pluginlib/class_list_macros.hpp>
 
@@ -57,21 +58,38 @@ class TriangulateNodelet : public nodelet::Nodelet {
   }
 
   // Loads the calibration on first use, so a driver that writes its factory calibration at
-  // start-up may come up after this nodelet.
+  // start-up may come up after this nodelet, and again whenever the file changes. A changed file
+  // that does not load is reported once and the last good calibration stays in use.
   bool ensureCalibration(const std::string& pair_id) {
-    if (triangulator_) return true;
+    std::error_code error;
+    const auto modified = std::filesystem::last_write_time(calibration_file_, error);
+    const FileStamp stamp{error ? decltype(modified)() : modified,
+                          error ? 0 : std::filesystem::file_size(calibration_file_, error)};
+    if (triangulator_ && (stamp == loaded_stamp_ || stamp == rejected_stamp_)) return true;
     try {
-      triangulator_ = std::make_unique<body_scan_driver::Triangulator>(
+      auto triangulator = std::make_unique<body_scan_driver::Triangulator>(
           body_scan_driver::loadCalibration(calibration_file_), min_range_, max_range_);
-      NODELET_INFO("[%s] calibration loaded from %s (%s)%s", pair_id.c_str(),
-                   calibration_file_.c_str(), triangulator_->calibration().source.c_str(),
-                   triangulator_->calibration().alignment
+      NODELET_INFO("[%s] calibration %sloaded from %s (%s)%s", pair_id.c_str(),
+                   triangulator_ ? "re" : "", calibration_file_.c_str(),
+                   triangulator->calibration().source.c_str(),
+                   triangulator->calibration().alignment
                        ? ", world alignment: applying its residual linear part"
                        : "");
+      triangulator_ = std::move(triangulator);
+      loaded_stamp_ = stamp;
+      rejected_stamp_.reset();
       return true;
     } catch (const std::exception& e) {
-      NODELET_ERROR_THROTTLE(5.0, "[%s] %s", pair_id.c_str(), e.what());
-      return false;
+      if (!triangulator_) {
+        NODELET_ERROR_THROTTLE(5.0, "[%s] %s", pair_id.c_str(), e.what());
+        return false;
+      }
+      rejected_stamp_ = stamp;
+      NODELET_ERROR(
+          "[%s] calibration file changed but does not load, keeping the last good "
+          "calibration (%s): %s; fix or restore the file (it is re-read when it changes)",
+          pair_id.c_str(), triangulator_->calibration().source.c_str(), e.what());
+      return true;
     }
   }
 
@@ -159,6 +177,10 @@ class TriangulateNodelet : public nodelet::Nodelet {
   body_scan_driver::DecoderParams params_;
   double min_range_ = 0.2, max_range_ = 5.0;
   std::unique_ptr<body_scan_driver::Triangulator> triangulator_;
+  // The calibration file's modification time and size when loaded / when it failed to load.
+  using FileStamp = std::pair<std::filesystem::file_time_type, std::uintmax_t>;
+  FileStamp loaded_stamp_;
+  std::optional<FileStamp> rejected_stamp_;
   std::unique_ptr<body_scan_driver::StripeDecoder> decoder_;
   body_scan_driver::StripeImage stripes_;
   body_scan_driver::ProblemThrottle throttle_;
