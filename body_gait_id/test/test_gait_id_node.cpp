@@ -1,7 +1,9 @@
 // gait_id_node end to end: 6 simulated people enrolled through ~enroll, 24 probes (another walk
 // of each) identified through ~identify and the /body_gait/model topic; the node is stopped and
 // a new one started on the same gallery file gives the same answers; a corrupt gallery file is
-// reported in the log and in every service reply while the node keeps running.
+// reported in the log and in every service reply while the node keeps running; a walk's 4 models
+// on the topic give 4 scan answers and one walk answer (an enrolled person's accepted, a
+// stranger's rejected).
 #include <body_gait_model/eval/gait_subjects.h>
 #include <body_gait_model/eval/skeleton_model.h>
 #include <body_gait_model/ros/body_model_msg.h>
@@ -26,6 +28,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -333,6 +336,80 @@ TEST_F(GaitIdNodeTest, ShapeFeaturesAndNoiseWeightsThroughParameters) {
               4 * kPeople, plain_correct);
   EXPECT_GT(shaped_correct, plain_correct);
   EXPECT_GE(shaped_correct, 4 * kPeople - 1);
+}
+
+TEST_F(GaitIdNodeTest, AWalksFourModelsAreIdentifiedAsOneWalk) {
+  const std::string database = (dir_ / "walks.db").string();
+  // The recognition.launch features (shape, median body, noise weights) and the default walk
+  // threshold; people 0-2 enrolled, person 4 a stranger.
+  NodeProcess node("gait_id_walks", database, (dir_ / "walks.log").string(),
+                   {"_feature_set:=dynamic_static_shape", "_walk_body:=median",
+                    "_feature_noise:=" + featureNoiseFile()});
+  ASSERT_TRUE(node.waitForServices()) << node.log();
+  std::vector<std::int64_t> ids;
+  for (int person = 0; person < 3; ++person) {
+    const auto srv = node.call("enroll", enrolment(person));
+    ASSERT_TRUE(srv.response.success) << srv.response.message;
+    ids.push_back(srv.response.subject_id);
+  }
+  ros::NodeHandle nh;
+  std::vector<body_scan_msgs::Identity> identities;
+  ros::Subscriber sub = nh.subscribe<body_scan_msgs::Identity>(
+      "/body_gait/identity", 20,
+      [&](const body_scan_msgs::Identity::ConstPtr& msg) { identities.push_back(*msg); });
+  ros::Publisher pub = nh.advertise<body_scan_msgs::BodyModel>("/body_gait/model", 8);
+  for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10);
+       ros::WallTime::now() < end && (pub.getNumSubscribers() == 0 || sub.getNumPublishers() == 0);
+       ros::WallDuration(0.02).sleep()) {
+  }
+  const auto walkAnswer = [&](int person, std::uint32_t walk_id) {
+    for (int index = 1; index <= 4; ++index) {
+      body_scan_msgs::BodyModel model =
+          modelMsg(body_gait_model::eval::walkingSubject(people_[person], index, 1));
+      model.header.stamp = ros::Time(100 * walk_id + index, 0);
+      model.walk_id = walk_id;
+      model.pose_index = index;
+      model.scan_id = 10 * walk_id + index;
+      pub.publish(model);
+    }
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(15);
+    while (ros::WallTime::now() < deadline) {
+      ros::spinOnce();
+      for (const auto& identity : identities)
+        if (identity.kind == body_scan_msgs::Identity::WALK && identity.walk_id == walk_id)
+          return std::optional<body_scan_msgs::Identity>(identity);
+      ros::WallDuration(0.02).sleep();
+    }
+    return std::optional<body_scan_msgs::Identity>();
+  };
+  const auto known = walkAnswer(1, 21);
+  ASSERT_TRUE(known) << "no walk identity for walk 21";
+  EXPECT_EQ(known->subject_id, ids[1]);
+  EXPECT_EQ(known->name, people_[1].name);
+  EXPECT_TRUE(known->accepted) << "score " << known->score;
+  EXPECT_DOUBLE_EQ(known->threshold, 15.5);
+  ASSERT_EQ(known->ranked_subject_ids.size(), 3u);  // rank-5 list of a 3-person gallery
+  EXPECT_EQ(known->ranked_subject_ids[0], ids[1]);
+  EXPECT_DOUBLE_EQ(known->ranked_scores[0], known->score);
+  EXPECT_TRUE(std::is_sorted(known->ranked_scores.begin(), known->ranked_scores.end()));
+  // Each of the walk's models was also answered as a single scan, with its walk and pose.
+  std::vector<int> scan_poses;
+  for (const auto& identity : identities)
+    if (identity.kind == body_scan_msgs::Identity::SCAN && identity.walk_id == 21) {
+      scan_poses.push_back(identity.pose_index);
+      EXPECT_EQ(identity.scan_id, 210u + identity.pose_index);
+      EXPECT_EQ(identity.ranked_subject_ids.size(), 3u);
+    }
+  EXPECT_EQ(scan_poses, (std::vector<int>{1, 2, 3, 4}));
+
+  const auto stranger = walkAnswer(4, 22);
+  ASSERT_TRUE(stranger) << "no walk identity for walk 22";
+  EXPECT_FALSE(stranger->accepted) << "a stranger's walk was accepted as " << stranger->name
+                                   << " with score " << stranger->score;
+  std::printf(
+      "[ figure ] walk of an enrolled person: score %.2f (accepted); a stranger's walk: "
+      "nearest %s, score %.2f (rejected at %.1f)\n",
+      known->score, stranger->name.c_str(), stranger->score, stranger->threshold);
 }
 
 TEST_F(GaitIdNodeTest, CorruptGalleryIsReportedAndTheNodeKeepsRunning) {

@@ -125,6 +125,11 @@ class MergeNodelet : public nodelet::Nodelet {
     report->scan_id = scan.scan_id;
     report->pairs_expected = assembler_->expectedPairs();
     report->pairs_missing = scan.missing;
+    // Every pair of a scan was triggered with the same walk id and pose index.
+    if (!scan.parts.empty()) {
+      report->walk_id = scan.parts.begin()->second->walk_id;
+      report->pose_index = scan.parts.begin()->second->pose_index;
+    }
     std::vector<CloudView> views;
     double slowest_pair = 0;
     ros::Time stamp;
@@ -201,8 +206,12 @@ class MergeNodelet : public nodelet::Nodelet {
       report->message += "; missing:";
       for (const std::string& id : report->pairs_missing) report->message += " " + id;
     }
-    cloud_pub_.publish(cloud);
+    if (report->walk_id != 0)
+      report->message += " (walk " + std::to_string(report->walk_id) + " pose " +
+                         std::to_string(report->pose_index) + ")";
+    // The report first: a consumer of the cloud finds its ids in the report of the same stamp.
     report_pub_.publish(report);
+    cloud_pub_.publish(cloud);
     if (report->pairs_missing.empty())
       NODELET_INFO("%s, merged in %.0f ms", report->message.c_str(),
                    1000 * report->stage_seconds.back());

@@ -129,6 +129,8 @@ class TriangulateNodelet : public nodelet::Nodelet {
     pair_cloud->header = set.header;
     pair_cloud->pair_id = set.pair_id;
     pair_cloud->scan_id = set.scan_id;
+    pair_cloud->walk_id = set.walk_id;
+    pair_cloud->pose_index = set.pose_index;
     sensor_msgs::PointCloud2* cloud = &pair_cloud->cloud;
     cloud->header = set.header;
     body_scan_driver::layoutFloatCloud(*cloud, size.width, size.height, /*rgb=*/true);
