@@ -106,10 +106,11 @@ PairCalibrationOutcome calibratePairToFiles(const PairViews& views,
   std::cout << "calibrating from " << views.pose_frames.size() << " reference-plane poses"
             << std::endl;
   const PairCalibrationOutcome outcome =
-      calibratePair(views.pose_frames, views.layout, options, progress);
+      calibratePair(views.pose_frames, views.layout, options, progress, views.pose_cross_frames);
   for (int stripe : outcome.planes.missing_stripes)
-    std::cout << "  stripe " << stripe << " seen on " << outcome.planes.poses_per_stripe[stripe]
-              << " poses: not calibrated (NaN plane; it triangulates to nothing)\n";
+    if (outcome.planes.poses_per_stripe[stripe] > 0)
+      std::cout << "  stripe " << stripe << " seen on " << outcome.planes.poses_per_stripe[stripe]
+                << " poses: not calibrated (NaN plane; it triangulates to nothing)\n";
   body_scan_driver::saveCalibration(files.calibration, outcome.calibration);
   std::cout << "wrote " << files.calibration << std::endl;
 

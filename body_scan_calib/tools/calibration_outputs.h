@@ -73,6 +73,24 @@ struct CaptureOptions {
   }
 };
 
+// --decoding standard|robust (capture_decoding.h). Unless given, robust for every layout but
+// the project's own (whose pairs the standard decoder is tuned on).
+struct DecodingChoice {
+  enum class Kind { kByLayout, kStandard, kRobust } kind = Kind::kByLayout;
+  bool robust(const CaptureOptions& capture) const {
+    return kind == Kind::kRobust || (kind == Kind::kByLayout && capture.layout != "project");
+  }
+};
+
+inline void addDecodingOption(CLI::App& app, DecodingChoice& choice) {
+  body_scan_driver::tools::addChoice<DecodingChoice::Kind>(
+      app, "--decoding", choice.kind,
+      {{"standard", DecodingChoice::Kind::kStandard}, {"robust", DecodingChoice::Kind::kRobust}},
+      "standard: the driver's decoder as is (tuned on the simulator); robust: real captures "
+      "(dark albedo decoded, codes inconsistent with their neighbours or the row code "
+      "rejected, median along the stripe). Default: robust except for --layout project");
+}
+
 inline void addCaptureOptions(CLI::App& app, CaptureOptions& capture) {
   std::vector<std::string> names;
   std::string help = "capture layout:";

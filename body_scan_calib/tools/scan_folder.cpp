@@ -28,6 +28,8 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingDirectory);
   app.add_option("--output", output, "point cloud to write: FILE.ply or FILE.pcd")->required();
   body_scan_calib::tools::addCaptureOptions(app, capture);
+  body_scan_calib::tools::DecodingChoice decoding;
+  body_scan_calib::tools::addDecodingOption(app, decoding);
   if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv))
     return *status;
   try {
@@ -39,10 +41,12 @@ int main(int argc, char** argv) {
           calibration_file + " has " + std::to_string(calibration.projector.stripeCount()) +
           " stripe planes but the captures have " + std::to_string(bits.stripe_bits) +
           " stripe bits; check --bits or --projector-width");
+    body_scan_calib::RobustDecoding robust;
+    robust.enabled = decoding.robust(capture);
     const body_scan_calib::CapturedPatternSet set =
         body_scan_calib::loadCapturedPatternSet(images, capture.captureLayout(), bits);
     const body_scan_driver::StripeImage stripes =
-        body_scan_calib::decodeCapturedSet(set, bits.stripe_bits);
+        body_scan_calib::decodeCapturedSet(set, bits.stripe_bits, robust);
     const std::vector<Eigen::Vector3f> points =
         body_scan_calib::triangulateStripes(calibration, stripes.coordinate);
     body_scan_calib::writePointCloud(output, points);
