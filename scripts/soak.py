@@ -190,7 +190,7 @@ def main():
                 raise RuntimeError("/body_scan/scan_report or /body_gait/model never connected")
             time.sleep(0.1)
 
-        latencies, fit_latencies, missing, rss_warm = [], [], [], None
+        latencies, fit_latencies, missing, rss_warm, rss_trace = [], [], [], None, []
         start_all = time.monotonic()
         for i in range(1, args.scans + 1):
             start = time.monotonic()
@@ -218,6 +218,7 @@ def main():
             if i == args.warmup:
                 rss_warm = node_rss(launch.pid)
             if i % 25 == 0 or i == args.scans:
+                rss_trace.append((i, node_rss(launch.pid)))
                 print(f"scan {i}/{args.scans}: latency p50 {percentile(latencies, 50):.3f} s, "
                       f"{len(missing)} missing", flush=True)
         rss_end = node_rss(launch.pid)
@@ -251,6 +252,10 @@ def main():
             failures.append(f"{name}: not running at scan {args.warmup} and at the end")
         elif growth > args.max_rss_growth:
             failures.append(f"{name}: RSS grew {100 * growth:.1f} % ({warm} -> {end} KiB)")
+    # Every 25 scans, the nodes above 50 MB: a leak climbs, an allocator's high-water mark levels.
+    big = sorted(n for n, kib in rss_end.items() if kib > 50 * 1024)
+    lines.append("rss_trace_kib:  # scan: RSS of " + ", ".join(big))
+    lines += [f"  {scan}: [{', '.join(str(rss.get(n)) for n in big)}]" for scan, rss in rss_trace]
     lines.append("missing:")
     lines += [f"  - {{scan: {m['scan']}, why: \"{m['why']}\"}}" for m in missing]
     if missing:

@@ -20,6 +20,8 @@
 #include <mutex>
 #include <pluginlib/class_list_macros.hpp>
 
+#include "master_watch.h"
+
 namespace body_scan_merge {
 
 class MergeNodelet : public nodelet::Nodelet {
@@ -68,6 +70,7 @@ class MergeNodelet : public nodelet::Nodelet {
           std::lock_guard<std::mutex> lock(mutex_);
           groups_ = groups;
         });
+    master_watch_ = MasterWatch::acquire();
     timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
       std::vector<ScanAssembler<Part>::Scan> done;
       {
@@ -233,6 +236,7 @@ class MergeNodelet : public nodelet::Nodelet {
   std::vector<ros::Subscriber> subscribers_;
   ros::Subscriber groups_sub_;
   ros::WallTimer timer_;
+  std::shared_ptr<MasterWatch> master_watch_;
 };
 
 }  // namespace body_scan_merge

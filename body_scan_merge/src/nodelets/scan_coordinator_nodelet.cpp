@@ -30,6 +30,7 @@
 #include <algorithm>
 #include <array>
 #include <condition_variable>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -37,6 +38,8 @@
 #include <set>
 #include <sstream>
 #include <thread>
+
+#include "master_watch.h"
 
 namespace body_scan_merge {
 
@@ -103,6 +106,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
           trigger_.notify_all();
         });
     walk_srv_ = mt.advertiseService("capture_walk", &ScanCoordinatorNodelet::onCaptureWalk, this);
+    master_watch_ = MasterWatch::acquire();  // registers again with a restarted master
     const double rate = pnh.param("rate", 0.0);
     if (rate > 0)
       scan_timer_ =
@@ -365,11 +369,13 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
         for (const std::string& other : group)
           if (other != id) capture.request.active_pairs.push_back(other);
         const std::string service = ros::names::append(root_, id + "/driver/capture");
+        ros::ServiceClient client = pairClient(service);
         std::string error;
         // A driver may still be coming up: wait for its service as long as for its answer.
-        if (!ros::service::waitForService(service, ros::Duration(pair_timeout_)))
+        if (!client.isValid() &&
+            !ros::service::waitForService(service, ros::Duration(pair_timeout_)))
           error = service + " is not advertised (is the pair's driver running?)";
-        else if (!ros::service::call(service, capture))
+        else if (!client.call(capture))
           error = service + " call failed";
         else if (!capture.response.success)
           error = capture.response.message;
@@ -392,7 +398,19 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
       if (!call->answered.count(id) || call->failed.count(id)) missing.push_back(id);
   }
 
+  // A persistent connection per pair: captures need no master once connected (a restarted
+  // master knows no services until they register again); a dropped one is made again.
+  ros::ServiceClient pairClient(const std::string& service) {
+    std::lock_guard<std::mutex> lock(clients_mutex_);
+    ros::ServiceClient& client = clients_[service];
+    if (!client.isValid())
+      client = getNodeHandle().serviceClient<body_scan_msgs::Capture>(service, /*persistent=*/true);
+    return client;
+  }
+
   std::vector<std::string> pairs_;
+  std::map<std::string, ros::ServiceClient> clients_;
+  std::mutex clients_mutex_;
   std::string calibration_dir_, calibration_suffix_, world_frame_, root_;
   double group_seconds_ = 0.5, pair_timeout_ = 10.0, plan_wait_ = 30.0;
   bool all_at_once_ = false;
@@ -421,6 +439,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
   ros::Publisher groups_pub_;
   ros::ServiceServer capture_srv_;
   ros::WallTimer scan_timer_;
+  std::shared_ptr<MasterWatch> master_watch_;
 };
 
 }  // namespace body_scan_merge

@@ -20,6 +20,8 @@
 #include <memory>
 #include <pluginlib/class_list_macros.hpp>
 
+#include "master_watch.h"
+
 namespace body_scan_merge {
 namespace {
 
@@ -53,6 +55,7 @@ class TriangulateNodelet : public nodelet::Nodelet {
     scan_points_pub_ = nh.advertise<body_scan_msgs::PairCloud>("scan_points", 2);
     stripe_pub_ = nh.advertise<sensor_msgs::Image>("stripe_image", 2);
     pattern_sub_ = nh.subscribe("pattern_set", 2, &TriangulateNodelet::onPatternSet, this);
+    master_watch_ = MasterWatch::acquire();  // registers again with a restarted master
     if (calibration_file_.empty())
       NODELET_ERROR("~calibration_file is not set: point it at the pair's calibration YAML");
   }
@@ -188,6 +191,7 @@ class TriangulateNodelet : public nodelet::Nodelet {
   body_scan_driver::ProblemThrottle throttle_;
   ros::Publisher points_pub_, scan_points_pub_, stripe_pub_;
   ros::Subscriber pattern_sub_;
+  std::shared_ptr<MasterWatch> master_watch_;
 };
 
 }  // namespace body_scan_merge
