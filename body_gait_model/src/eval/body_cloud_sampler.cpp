@@ -1,6 +1,7 @@
 // Ray-cast whole-body clouds from the simulator's Scene (tests and evaluation only).
 #include <body_gait_model/eval/body_cloud_sampler.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -145,7 +146,10 @@ FitErrors compareWithTruth(const BodyModel& model, const SampledBody& body) {
   const Eigen::Vector3d front(std::cos(heading), std::sin(heading), 0);
   const Eigen::Vector3d left(-std::sin(heading), std::cos(heading), 0);
   FitErrors errors;
+  std::vector<Eigen::Vector3d> fitted_joints, true_joints;
   auto addJoint = [&](const std::string& name, const Eigen::Vector3d& true_position) {
+    fitted_joints.push_back(posed.joint(name));
+    true_joints.push_back(true_position);
     const Eigen::Vector3d offset = posed.joint(name) - true_position;
     errors.joint_error[name] = offset.norm();
     errors.joint_offset[name] = Eigen::Vector3d(offset.dot(front), offset.dot(left), offset.z());
@@ -189,6 +193,15 @@ FitErrors compareWithTruth(const BodyModel& model, const SampledBody& body) {
     return values.empty() ? 0.0 : sum / values.size();
   };
   errors.mean_joint_error = average(errors.joint_error);
+  // Procrustes: the rigid motion (Kabsch) that best lays the fitted joints on the true ones.
+  const Eigen::Matrix3Xd fitted_matrix =
+      Eigen::Map<const Eigen::Matrix3Xd>(fitted_joints[0].data(), 3, fitted_joints.size());
+  const Eigen::Matrix3Xd true_matrix =
+      Eigen::Map<const Eigen::Matrix3Xd>(true_joints[0].data(), 3, true_joints.size());
+  const Eigen::Matrix4d alignment = Eigen::umeyama(fitted_matrix, true_matrix, false);
+  const Eigen::Matrix3Xd aligned = (alignment.topLeftCorner<3, 3>() * fitted_matrix).colwise() +
+                                   alignment.topRightCorner<3, 1>();
+  errors.procrustes_joint_error = (aligned - true_matrix).colwise().norm().mean();
   errors.mean_length_error = average(errors.segment_length_error);
   errors.mean_swing_error = average(errors.swing_error);
   const Eigen::Matrix3d rotation = posed.whole_body.linear();

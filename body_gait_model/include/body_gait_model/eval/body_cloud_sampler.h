@@ -65,6 +65,9 @@ struct FitErrors {
   std::map<std::string, Eigen::Vector3d> joint_offset;
   std::map<std::string, double> segment_length_bias;
   double mean_joint_error = 0, mean_length_error = 0, mean_swing_error = 0;
+  // Mean joint error after the rigid motion that best aligns the fitted joints with the true
+  // ones (rotation + translation removed, as pose-estimation papers report it).
+  double procrustes_joint_error = 0;
   bool front_right = false;  // fitted front within 45 degrees of the true heading
   bool left_right = false;   // the fitted left arm/leg is the subject's left (true left side)
 };
