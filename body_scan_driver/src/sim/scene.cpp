@@ -223,9 +223,20 @@ bool Scene::intersect(const Ray& ray, Hit& hit, double t_min, double t_max) cons
 bool Scene::occluded(const Eigen::Vector3d& from, const Eigen::Vector3d& to) const {
   const Eigen::Vector3d delta = to - from;
   const double length = delta.norm();
-  Hit hit;
+  const Ray ray{from, delta / length};
   // Tolerances keep a surface from shadowing itself at the start point.
-  return intersect(Ray{from, delta / length}, hit, 1e-5, length - 1e-5);
+  const double t_min = 1e-5, t_max = length - 1e-5;
+  for (const auto& surface : surfaces_) {
+    const double radius = surface->boundingRadius();
+    if (std::isfinite(radius)) {
+      const Eigen::Vector3d to_center = surface->boundingCenter() - ray.origin;
+      const double along = to_center.dot(ray.direction);
+      if (along + radius < t_min || along - radius > t_max) continue;
+      if (to_center.squaredNorm() - along * along > radius * radius) continue;
+    }
+    if (surface->occludes(ray, t_min, t_max)) return true;
+  }
+  return false;
 }
 
 // ---------------------------------------------------------------------------------------------

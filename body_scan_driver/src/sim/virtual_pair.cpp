@@ -281,8 +281,8 @@ void VirtualPair::traceSurfaces(const std::vector<const VirtualPair*>& also_proj
         truth.points(v, u) = toVec3f(point_camera);
 
         const Eigen::Vector3d normal_camera = rotation.transpose() * hit.normal;
-        double albedo = hit.surface->albedoAt(point_world);
-        Eigen::Vector3d color = hit.surface->colorAt(point_world);
+        double albedo = hit.surface->albedoAtHit(hit, point_world);
+        Eigen::Vector3d color = hit.surface->colorAtHit(hit, point_world);
         if (hit.surface->patterned())
           averageOverPixel(*hit.surface, camera_rays_, rows, cols, pose, rotation, u, v, albedo,
                            color);

@@ -30,9 +30,11 @@ struct Hit {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();           // unit, outward
   const Surface* surface = nullptr;
   int surface_index = -1;  // into Scene::surfaces(); set by Scene::intersect
+  int primitive = -1;      // the triangle of a TriangleMesh; -1 for analytic surfaces
 };
 
-// One primitive. Implementations: Plane, CheckerboardPlane, Sphere, Cylinder, Ellipsoid.
+// One primitive. Implementations: Plane, CheckerboardPlane, Sphere, Cylinder, Ellipsoid,
+// TriangleMesh (triangle_mesh.h).
 class Surface {
  public:
   explicit Surface(Material material) : material_(material) {}
@@ -40,10 +42,22 @@ class Surface {
 
   // Nearest intersection with distance in (t_min, t_max); fills hit and returns true if any.
   virtual bool intersect(const Ray& ray, double t_min, double t_max, Hit& hit) const = 0;
+  // Whether anything of the surface lies on the ray in (t_min, t_max) (shadow test).
+  virtual bool occludes(const Ray& ray, double t_min, double t_max) const {
+    Hit hit;
+    return intersect(ray, t_min, t_max, hit);
+  }
   // Albedo at a point on the surface; patterned surfaces (checkerboards) override it.
   virtual double albedoAt(const Eigen::Vector3d& /*point*/) const { return material_.albedo; }
   virtual Eigen::Vector3d colorAt(const Eigen::Vector3d& /*point*/) const {
     return material_.color;
+  }
+  // The same at a hit of this surface (meshes have a material per triangle).
+  virtual double albedoAtHit(const Hit& /*hit*/, const Eigen::Vector3d& point) const {
+    return albedoAt(point);
+  }
+  virtual Eigen::Vector3d colorAtHit(const Hit& /*hit*/, const Eigen::Vector3d& point) const {
+    return colorAt(point);
   }
   // True for printed patterns (checker grids, markers): the renderer averages their albedo over
   // 4x4 samples of the pixel's area so pattern edges keep their subpixel position; plain
