@@ -169,6 +169,28 @@ TEST(MeshHumanRig, RetargetedBvhJointsMatchTheBvhOverAWalk) {
   std::cout << "worst retargeted joint error over the walk: " << worst * 1000 << " mm\n";
 }
 
+// The scene files: a standing mesh person and a mesh walker on a CMU gait pose.
+TEST(MeshHumanScene, SceneFilesPlaceAMeshPerson) {
+  for (const char* name : {"mesh_person", "mesh_walker"}) {
+    const Scene scene = loadScene(driverConfigDir() + "/scenes/" + name + ".yaml");
+    ASSERT_EQ(scene.surfaces().size(), 2u) << name;
+    const auto* skin = dynamic_cast<const TriangleMesh*>(scene.surfaces()[1].get());
+    ASSERT_NE(skin, nullptr) << name;
+    EXPECT_EQ(skin->name, std::string(name) == "mesh_person" ? "person/skin" : "walker/skin");
+    std::map<std::string, Eigen::Vector3d> joints;
+    for (const SkeletonJoint& joint : scene.skeleton()) joints[joint.name] = joint.position;
+    EXPECT_GT(joints["head_top"].z(), 1.5) << name;
+    EXPECT_LT(joints["head_top"].z(), 1.95) << name;
+    EXPECT_NEAR(joints["pelvis"].x(), 0, 0.05) << name;
+    // A ray down onto the head hits the skin at its vertex.
+    Hit hit;
+    ASSERT_TRUE(scene.intersect(
+        Ray{joints["head_top"] + Eigen::Vector3d(0, 0, 1), -Eigen::Vector3d::UnitZ()}, hit));
+    EXPECT_NEAR(hit.distance, 1.0, 0.02) << name;
+  }
+  EXPECT_THROW(parseScene("objects: [{type: mesh_human, gait_pose: 1}]"), std::runtime_error);
+}
+
 // Möller-Trumbore over every triangle: the peer Embree's nearest hit must equal.
 bool bruteForce(const TriangleMesh& mesh, const Ray& ray, double& distance, int& triangle) {
   distance = std::numeric_limits<double>::infinity();
@@ -214,9 +236,8 @@ TEST(TriangleMesh, EmbreeHitsEqualABruteForceIntersection) {
     EXPECT_GT(-hit.normal.dot(ray.direction), 0) << "the normal faces the ray";
     // The packet path returns the same hit.
     Hit packed;
-    bool found = false;
-    mesh.intersectMany(&ray, 1, 1e-6, std::numeric_limits<double>::infinity(), &packed, &found);
-    EXPECT_TRUE(found);
+    mesh.intersectMany(&ray, 1, 1e-6, &packed);
+    EXPECT_EQ(packed.surface, &mesh);
     EXPECT_NEAR(packed.distance, hit.distance, 1e-6);
   }
   EXPECT_GT(hits, 60);

@@ -1,4 +1,5 @@
 // The mesh human: kit loading, macro morphing, the person spec, segment skinning.
+#include <body_scan_driver/sim/bvh_body.h>
 #include <body_scan_driver/sim/mesh_human.h>
 #include <body_scan_driver/sim/triangle_mesh.h>
 #include <yaml-cpp/yaml.h>
@@ -6,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <mutex>
@@ -565,6 +567,7 @@ MeshHumanRig::MeshHumanRig(const MeshHumanModel& model, MorphedMesh mesh,
   // Materials: a hair cap on the scalp and briefs over the pelvis (rest positions).
   triangles_ = skinTriangles(model);
   material_.assign(triangles_.size(), 0);
+  triangle_segment_.assign(triangles_.size(), 0);
   double head_front = -1e9;
   for (int v = 0; v < model.body_vertex_count; ++v)
     if (mesh_.vertices[v].z() > head_top.z() - 0.12)
@@ -580,6 +583,7 @@ MeshHumanRig::MeshHumanRig(const MeshHumanModel& model, MorphedMesh mesh,
     }
     const int dominant = static_cast<int>(
         std::max_element(segment_weight.begin(), segment_weight.end()) - segment_weight.begin());
+    triangle_segment_[t] = static_cast<uint8_t>(dominant);
     const double below_top = head_top.z() - centre.z();
     if (dominant == kNeck &&
         (below_top < 0.05 || (below_top < 0.13 && centre.x() < head_front - 0.10)))
@@ -714,6 +718,10 @@ void addMeshHuman(const MeshHumanRig& rig, const HumanBodySpec& body, Scene& sce
       std::vector<Material>{spec.materials.skin, spec.materials.hair, spec.materials.clothing},
       rig.triangleMaterial());
   mesh->name = spec.name + "/skin";
+  std::vector<std::string> segments;
+  for (int s = 0; s < MeshHumanRig::kSegmentCount; ++s)
+    segments.push_back(MeshHumanRig::segmentName(s));
+  mesh->setParts(segments, rig.triangleSegment());
   scene.add(std::move(mesh));
   scene.addJoints(rig.skeleton(*spec.segment_frames, spec.body));
 }
@@ -738,6 +746,54 @@ MeshPersonSpec meshPersonFromYaml(const YAML::Node& node, const std::string& whe
     }
   }
   return person;
+}
+
+void addMeshHumanFromYaml(const YAML::Node& object, const std::string& where,
+                          const std::string& base_dir, Scene& scene) {
+  requireKnownKeys(object, {"type",      "name",        "stature",   "gender",    "age",
+                            "bmi",       "muscle",      "african",   "asian",     "caucasian",
+                            "position",  "heading_deg", "pose",      "materials", "bvh",
+                            "joint_map", "frame",       "gait_pose", "model",     "retarget_map"},
+                   where);
+  auto file = [&](const char* key, const char* fallback) {
+    const std::filesystem::path path = object[key] ? object[key].as<std::string>() : fallback;
+    return (path.is_relative() && !base_dir.empty() ? std::filesystem::path(base_dir) / path : path)
+        .string();
+  };
+  const MeshHumanFiles files{file("model", "../../data/mesh_human/mesh_human.bin"),
+                             file("retarget_map", "../mesh/mesh_retarget.yaml")};
+  MeshPersonSpec person = meshPersonFromYaml(object, where);
+  try {
+    std::shared_ptr<const MeshHumanRig> rig;
+    HumanBodySpec body;
+    if (object["bvh"]) {
+      if (object["pose"]) throw std::runtime_error("give 'pose' or 'bvh', not both");
+      YAML::Node bvh(YAML::NodeType::Map);
+      for (const char* key : {"name", "bvh", "joint_map", "frame", "gait_pose", "position",
+                              "heading_deg", "materials"})
+        if (object[key]) bvh[key] = object[key];
+      // The walker's stature from its legs unless the scene gives one.
+      body = bvhHumanFromYaml(bvh, where, base_dir, [&](double estimated_stature) {
+        if (!object["stature"]) person.stature = estimated_stature;
+        rig = meshHumanRig(person, files);
+        return rig->anthropometry();
+      });
+    } else {
+      YAML::Node human(YAML::NodeType::Map);
+      for (const char* key : {"name", "position", "heading_deg", "pose", "materials"})
+        if (object[key]) human[key] = object[key];
+      body = humanBodyFromYaml(human);
+      rig = meshHumanRig(person, files);
+    }
+    addMeshHuman(*rig, body, scene);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(where + ": " + e.what());
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    throw std::runtime_error(message.rfind(where, 0) == 0 ? message : where + ": " + message);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(where + ": " + e.what());
+  }
 }
 
 }  // namespace body_scan_driver::sim

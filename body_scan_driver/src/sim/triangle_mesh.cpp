@@ -129,8 +129,7 @@ bool TriangleMesh::intersect(const Ray& ray, double t_min, double t_max, Hit& hi
   return true;
 }
 
-void TriangleMesh::intersectMany(const Ray* rays, int count, double t_min, double t_max, Hit* hits,
-                                 bool* found) const {
+void TriangleMesh::intersectMany(const Ray* rays, int count, double t_min, Hit* hits) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -140,8 +139,9 @@ void TriangleMesh::intersectMany(const Ray* rays, int count, double t_min, doubl
     alignas(64) RTCRayHit16 packet;
     for (int i = 0; i < 16; ++i) {
       valid[i] = i < n ? -1 : 0;
+      const int k = start + std::min(i, n - 1);
       RTCRay single;
-      setRay(single, rays[start + std::min(i, n - 1)], t_min, t_max);
+      setRay(single, rays[k], t_min, hits[k].distance);
       packet.ray.org_x[i] = single.org_x;
       packet.ray.org_y[i] = single.org_y;
       packet.ray.org_z[i] = single.org_z;
@@ -151,14 +151,14 @@ void TriangleMesh::intersectMany(const Ray* rays, int count, double t_min, doubl
       packet.ray.tnear[i] = single.tnear;
       packet.ray.tfar[i] = single.tfar;
       packet.ray.mask[i] = single.mask;
+      packet.ray.id[i] = i;
       packet.ray.flags[i] = 0;
       packet.ray.time[i] = 0;
       packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     }
     rtcIntersect16(valid, embree_->scene, &context, &packet);
     for (int i = 0; i < n; ++i) {
-      found[start + i] = packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
-      if (!found[start + i]) continue;
+      if (packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
       Hit& hit = hits[start + i];
       hit.distance = packet.ray.tfar[i];
       hit.primitive = static_cast<int>(packet.hit.primID[i]);
@@ -175,6 +175,17 @@ bool TriangleMesh::occludes(const Ray& ray, double t_min, double t_max) const {
   setRay(query, ray, t_min, t_max);
   rtcOccluded1(embree_->scene, &context, &query);
   return query.tfar < 0;  // Embree sets tfar to -inf on a hit
+}
+
+void TriangleMesh::setParts(std::vector<std::string> part_names,
+                            std::vector<uint8_t> triangle_part) {
+  if (triangle_part.size() != triangles_.size())
+    throw std::invalid_argument("TriangleMesh: one part index per triangle is needed");
+  for (const uint8_t part : triangle_part)
+    if (part >= part_names.size())
+      throw std::invalid_argument("TriangleMesh: part index out of range");
+  part_names_ = std::move(part_names);
+  triangle_part_ = std::move(triangle_part);
 }
 
 double TriangleMesh::albedoAtHit(const Hit& hit, const Eigen::Vector3d& point) const {

@@ -149,6 +149,8 @@ class MeshHumanRig {
                                  const Anthropometry& lengths) const;
   // Per-triangle material: 0 skin, 1 hair (the cap of the scalp), 2 clothing (briefs).
   const std::vector<uint8_t>& triangleMaterial() const { return material_; }
+  // Per-triangle segment (segmentName): the one its vertices' weights favour.
+  const std::vector<uint8_t>& triangleSegment() const { return triangle_segment_; }
   const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
   const MeshHumanModel& model() const { return model_; }
 
@@ -173,6 +175,7 @@ class MeshHumanRig {
   std::vector<std::array<Influence, 4>> influences_;  // per skin vertex, weight 0 = unused
   std::vector<std::array<int, 3>> triangles_;
   std::vector<uint8_t> material_;
+  std::vector<uint8_t> triangle_segment_;
   int head_top_vertex_ = 0;
   std::array<int, 2> toe_vertex_{};
 };
@@ -197,5 +200,13 @@ void addMeshHuman(const MeshHumanRig& rig, const HumanBodySpec& body, Scene& sce
 // The person keys of a scene object (stature, gender, age, bmi, muscle, african, asian,
 // caucasian); absent keys keep the defaults. Throws std::runtime_error naming the key.
 MeshPersonSpec meshPersonFromYaml(const YAML::Node& node, const std::string& where);
+
+// A scene-file object of type mesh_human (config/scenes/mesh_person.yaml): the person keys, then
+// either a pose like a human's (pose, position, heading_deg) or a BVH frame like a bvh_human's
+// (bvh, joint_map, frame or gait_pose; the stature defaults to the one the legs imply), and
+// materials; model and retarget_map name the kit and the map (defaults: the package's, relative
+// to base_dir = the scene file's folder). Throws std::runtime_error naming `where` and the key.
+void addMeshHumanFromYaml(const YAML::Node& object, const std::string& where,
+                          const std::string& base_dir, Scene& scene);
 
 }  // namespace body_scan_driver::sim

@@ -42,6 +42,14 @@ class Surface {
 
   // Nearest intersection with distance in (t_min, t_max); fills hit and returns true if any.
   virtual bool intersect(const Ray& ray, double t_min, double t_max, Hit& hit) const = 0;
+  // Nearest hits of many rays: hits[i] is replaced where the surface has a hit in
+  // (t_min, hits[i].distance). TriangleMesh casts them as packets.
+  virtual void intersectMany(const Ray* rays, int count, double t_min, Hit* hits) const {
+    for (int i = 0; i < count; ++i) {
+      Hit hit;
+      if (intersect(rays[i], t_min, hits[i].distance, hit)) hits[i] = hit;
+    }
+  }
   // Whether anything of the surface lies on the ray in (t_min, t_max) (shadow test).
   virtual bool occludes(const Ray& ray, double t_min, double t_max) const {
     Hit hit;
@@ -170,6 +178,8 @@ class Scene {
   // Nearest hit along the ray in (t_min, t_max).
   bool intersect(const Ray& ray, Hit& hit, double t_min = 1e-6,
                  double t_max = std::numeric_limits<double>::infinity()) const;
+  // intersect() for many rays at once (a camera row): hits[i].surface == nullptr = no hit.
+  void intersectMany(const Ray* rays, int count, Hit* hits, double t_min = 1e-6) const;
   // True if anything lies strictly between from and to (shadow test).
   bool occluded(const Eigen::Vector3d& from, const Eigen::Vector3d& to) const;
 

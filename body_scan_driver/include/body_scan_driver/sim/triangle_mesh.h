@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace body_scan_driver::sim {
@@ -23,10 +24,8 @@ class TriangleMesh : public Surface {
 
   bool intersect(const Ray& ray, double t_min, double t_max, Hit& hit) const override;
   bool occludes(const Ray& ray, double t_min, double t_max) const override;
-  // Many rays at once (Embree's 16-wide packets): hits[i] set where found[i]. Same results as
-  // intersect() per ray.
-  void intersectMany(const Ray* rays, int count, double t_min, double t_max, Hit* hits,
-                     bool* found) const;
+  // Embree's 16-wide packets; the same hits as intersect() ray by ray.
+  void intersectMany(const Ray* rays, int count, double t_min, Hit* hits) const override;
   double albedoAtHit(const Hit& hit, const Eigen::Vector3d& point) const override;
   Eigen::Vector3d colorAtHit(const Hit& hit, const Eigen::Vector3d& point) const override;
   double boundingRadius() const override { return bounding_radius_; }
@@ -39,6 +38,11 @@ class TriangleMesh : public Surface {
     return materials_[triangle_material_[triangle]];
   }
   int materialIndexOf(int triangle) const { return triangle_material_[triangle]; }
+  // Named parts (a mesh human's body segments, for evaluation reports): part_names[
+  // triangle_part[i]] is triangle i's. Empty unless set.
+  void setParts(std::vector<std::string> part_names, std::vector<uint8_t> triangle_part);
+  const std::vector<std::string>& partNames() const { return part_names_; }
+  const std::vector<uint8_t>& trianglePart() const { return triangle_part_; }
 
  private:
   Eigen::Vector3d normalAt(int triangle, float u, float v) const;
@@ -47,6 +51,8 @@ class TriangleMesh : public Surface {
   std::vector<std::array<int, 3>> triangles_;
   std::vector<Material> materials_;
   std::vector<uint8_t> triangle_material_;
+  std::vector<std::string> part_names_;
+  std::vector<uint8_t> triangle_part_;
   Eigen::Vector3d bounding_center_;
   double bounding_radius_ = 0;
   struct Embree;
