@@ -7,7 +7,7 @@
 //                     [--test-headings] [--per-joint] [--full-scanner]
 //                     [--missing-pairs pole_c/pair_2,...] [--only SUBJECT]
 //                     [--clouds DIR] [--rig RIG.yaml] [--dark-albedo A] [--people N]
-//                     [--lean-deg D]
+//                     [--lean-deg D] [--body ellipsoid|mesh]
 //                     [--out report.yaml]        (all options: evaluate_body_fit --help)
 //
 // After the summary: per joint the mean error and mean offset (fitted - true) in the true body
@@ -24,6 +24,9 @@
 // simulatedPeople(N) (eval/gait_subjects.h: survey-drawn bodies, personal gait styles; walk 0)
 // instead of simulatedSubjects. --lean-deg D sets every simulated body's forward torso lean
 // (simulatedSubjects stand upright, simulatedPeople lean by their style, ~3 +- 2 deg).
+// --body mesh dresses every subject (and BVH walker) with the skinned mesh human
+// (body_scan_driver/sim/mesh_human.h: a person of the subject's stature, sex and build) instead of
+// the ellipsoids; the truth is the mesh's skeleton.
 //
 // Motion-capture subjects (issue 7): --bvh [PERSON=]WALK.bvh,... replaces the simulated subjects
 // by real walks: in each walk the 4 poses of 5.3 are picked (body_scan_driver's pickGaitPoses),
@@ -142,6 +145,9 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& settings) {
   app.add_option("--picture", settings.picture,
                  "PNG: every case's cloud from the side with the fitted (red) and true (green) "
                  "joints");
+  std::string body = "ellipsoid";
+  app.add_option("--body", body, "the simulated body: ellipsoid (default) or mesh")
+      ->check(CLI::IsMember({"ellipsoid", "mesh"}));
   app.add_option("--out", settings.out, "YAML report");
   if (const auto status = tools::parseCommandLine(app, argc, argv)) return status;
   if (columns > 0) {
@@ -149,6 +155,7 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& settings) {
     settings.rig.rows = columns * 13 / 16;
   }
   settings.options.refine = !direct;
+  settings.rig.body = settings.scanner.body = body_gait_model::eval::parseBodyKind(body);
   return std::nullopt;
 }
 
