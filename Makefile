@@ -52,7 +52,7 @@ DEB_PACKAGES := \
 	python3-rosbag libdiagnostic-updater-dev libdynamic-reconfigure-config-init-mutex-dev \
 	python3-dynamic-reconfigure \
 	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libceres-dev libpcl-dev \
-	libsqlite3-dev libcli11-dev libusb-1.0-0-dev libuvc-dev libx11-dev \
+	libsqlite3-dev libcli11-dev libusb-1.0-0-dev libuvc-dev libx11-dev libembree-dev \
 	libgtest-dev libbenchmark-dev libtinyxml2-dev xvfb opencv-doc
 
 # Only `make format` needs these.
