@@ -50,11 +50,15 @@ TimedFit fitScan(const Cloud& cloud, const FitOptions& options) {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
 }
 
-// The fits of a walk's 4 clouds (poses s1..s4). For now each cloud is fitted on its own with the
-// single-scan fit; a walk-level fit (the 4 clouds fitted together) replaces this one function.
-std::vector<TimedFit> fitWalk(const std::vector<Cloud>& clouds, const FitOptions& options) {
+// The fits of a walk's 4 clouds (poses s1..s4), fitted together with one body (fitWalk); each
+// scan is given an equal share of the walk's time.
+std::vector<TimedFit> fitWalkScans(const std::vector<Cloud>& clouds, const FitOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  WalkFit walk = fitWalk(clouds, options);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::vector<TimedFit> fits;
-  for (const Cloud& cloud : clouds) fits.push_back(fitScan(cloud, options));
+  for (BodyFit& fit : walk.scans) fits.push_back({std::move(fit), seconds / clouds.size()});
   return fits;
 }
 
@@ -194,7 +198,7 @@ class BodyFitterNodelet : public nodelet::Nodelet {
       }
       const std::vector<TimedFit> fits = msgs.size() == 1
                                              ? std::vector<TimedFit>{fitScan(clouds[0], options_)}
-                                             : fitWalk(clouds, options_);
+                                             : fitWalkScans(clouds, options_);
       for (std::size_t i = 0; i < fits.size(); ++i) publish(fits[i], *msgs[i], ids[i], clouds[i]);
       if (fits.size() == static_cast<std::size_t>(kWalkPoses))
         publishCycle(fits, *msgs.back(), ids[0]);
