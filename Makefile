@@ -14,6 +14,9 @@
 #   make demo    build + scripts/demo.sh
 #   make bench   build + run every build/devel/lib/*/bench_* (JSON into build/bench/);
 #                BENCH_ARGS="..." is passed to each (e.g. --benchmark_filter=plane/hot)
+#   make soak    build + scripts/soak.py: SOAK_SCANS (default 300) consecutive scans of the
+#                headless simulated scanner; latency p50/p99, every node's RSS, missing scans
+#                (report build/soak/soak.yaml); not part of `make test` (about 20 min)
 #   make format  clang-format -i every C++ file of the packages
 #   make fuzz    build the BVH reader's libFuzzer target with clang (build/fuzz/fuzz_bvh) and
 #                run it FUZZ_SECONDS (default 60) on its seed corpus; findings in build/fuzz/
@@ -71,7 +74,7 @@ define install_missing
 	fi
 endef
 
-.PHONY: deps build test demo bench format clean fuzz
+.PHONY: deps build test demo bench format clean fuzz soak
 
 # deps: install the Debian packages in DEB_PACKAGES that are missing (idempotent).
 deps:
@@ -136,6 +139,12 @@ bench: build
 	if [ $$found -eq 0 ]; then echo "no bench_* executables under build/devel/lib/*/"; exit 1; fi; \
 	echo "== ratios against ours (also in build/bench/report.txt)"; \
 	$(PY) scripts/bench_report.py $(BUILD_DIR)/bench/bench_*.json
+
+# soak: build, then the long run of the whole scanner (scripts/soak.py). Fails on a missing scan,
+# a node's RSS growing > 5 % after the warm-up scans, or latency p99 > 2 x p50.
+SOAK_SCANS ?= 300
+soak: build
+	source $(BUILD_DIR)/devel/setup.bash && $(PY) scripts/soak.py --scans $(SOAK_SCANS)
 
 # format: clang-format -i (style: .clang-format) every .cpp/.h/.hpp of the catkin packages.
 format:

@@ -15,7 +15,9 @@ namespace {
 
 struct Arguments {
   std::string images, pair_id = "pair";
-  int exposures = 16, bits = 8;
+  int exposures = 16;
+  body_scan_calib::tools::CaptureOptions capture;
+  body_scan_calib::Checkerboard board = body_scan_calib::referenceBoard();
   bool refinement = true;
   body_scan_calib::PairCalibrationFiles files;
 };
@@ -29,8 +31,8 @@ std::optional<int> parse(int argc, char** argv, Arguments& arguments) {
       "pair instead.",
       "calibrate_pair");
   app.add_option("--images", arguments.images,
-                 "recorded captures: FOLDER/pose_NN/frame_MM.png (pattern frames in PatternSet "
-                 "order, >= 3 poses), optional FOLDER/spheres/frame_MM.png to evaluate")
+                 "recorded captures: one folder per board pose (>= 3) in the --layout, e.g. "
+                 "FOLDER/pose_NN/frame_MM.png; optional FOLDER/spheres/frame_MM.png to evaluate")
       ->required()
       ->check(CLI::ExistingDirectory);
   app.add_option("--pair-id", arguments.pair_id,
@@ -40,9 +42,8 @@ std::optional<int> parse(int argc, char** argv, Arguments& arguments) {
                  "how many frames the recorded frames average per pattern (for the report)")
       ->capture_default_str()
       ->check(body_scan_driver::tools::atLeast(1));
-  app.add_option("--bits", arguments.bits, "Gray code bits of the captures")
-      ->capture_default_str()
-      ->check(CLI::Range(body_scan_driver::kMinBits, body_scan_driver::kMaxBits));
+  body_scan_calib::tools::addCaptureOptions(app, arguments.capture);
+  body_scan_calib::tools::addBoardOptions(app, arguments.board);
   bool no_refinement = false;
   body_scan_calib::tools::addPairCalibrationOutputs(app, arguments.files, no_refinement);
   if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv)) return status;
@@ -59,8 +60,10 @@ int main(int argc, char** argv) {
     body_scan_calib::PairCalibrationOptions options;
     options.joint_refinement = arguments.refinement;
     options.pair_id = arguments.pair_id;
+    options.board = arguments.board;
     const body_scan_calib::PairViews views =
-        body_scan_calib::loadPairViews(arguments.images, arguments.bits, arguments.exposures);
+        body_scan_calib::loadPairViews(arguments.images, arguments.capture.captureLayout(),
+                                       arguments.capture.captureBits(), arguments.exposures);
     body_scan_calib::calibratePairToFiles(views, options, arguments.files);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

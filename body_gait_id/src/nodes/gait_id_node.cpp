@@ -118,8 +118,10 @@ class GaitIdNode {
       res.pose_count = static_cast<int>(poses.size());
       res.success = true;
       matcher_.reset();
-      ROS_INFO("enrolled '%s' as subject %ld (%d poses)", req.name.c_str(),
-               static_cast<long>(res.subject_id), res.pose_count);
+      // Names are personal data: above DEBUG the logs carry subject ids only.
+      ROS_INFO("enrolled subject %ld (%d poses)", static_cast<long>(res.subject_id),
+               res.pose_count);
+      ROS_DEBUG("subject %ld is '%s'", static_cast<long>(res.subject_id), req.name.c_str());
     } catch (const GalleryError& e) {
       res.message = e.what();
       reset(e);
@@ -166,6 +168,9 @@ class GaitIdNode {
     } catch (const GalleryError& e) {
       res.message = e.what();
       reset(e);
+    } catch (const std::exception& e) {
+      res.message = e.what();
+      ROS_ERROR("%s", res.message.c_str());
     }
     return true;
   }
@@ -183,6 +188,9 @@ class GaitIdNode {
     } catch (const GalleryError& e) {
       res.message = e.what();
       reset(e);
+    } catch (const std::exception& e) {
+      res.message = e.what();
+      ROS_ERROR("%s", res.message.c_str());
     }
     return true;
   }
@@ -193,13 +201,15 @@ class GaitIdNode {
       identity.header = msg->header;
       fillIdentity(identify(*msg), identity);
       identity_pub_.publish(identity);
-      ROS_INFO("identified: subject %ld '%s', sequence %d, frame %d, score %.3f (%s)",
-               static_cast<long>(identity.subject_id), identity.name.c_str(), identity.sequence,
-               identity.frame, identity.score, identity.accepted ? "accepted" : "rejected");
+      ROS_INFO("identified: subject %ld, sequence %d, frame %d, score %.3f (%s)",
+               static_cast<long>(identity.subject_id), identity.sequence, identity.frame,
+               identity.score, identity.accepted ? "accepted" : "rejected");
     } catch (const GalleryError& e) {
       reset(e);
-    } catch (const std::exception& e) {
+    } catch (const std::exception& e) {  // fromMsg names the bad field
       ROS_ERROR_THROTTLE(5.0, "model on body_gait/model not identified: %s", e.what());
+    } catch (...) {
+      ROS_ERROR_THROTTLE(5.0, "model on body_gait/model not identified: unknown error");
     }
   }
 

@@ -74,8 +74,10 @@ class BodyFitterNodelet : public nodelet::Nodelet {
         NODELET_INFO("%zu points fitted in %.0f ms: RMS %.1f mm, %.0f %% explained", cloud.size(),
                      1000 * seconds, 1000 * fit.quality.rms_distance,
                      100 * fit.quality.explained_fraction);
-    } catch (const std::exception& e) {
+    } catch (const std::exception& e) {  // cloudFromMsg names the bad field
       NODELET_ERROR_THROTTLE(5.0, "cloud not fitted: %s", e.what());
+    } catch (...) {  // nothing may escape into the nodelet manager
+      NODELET_ERROR_THROTTLE(5.0, "cloud not fitted: unknown error");
     }
   }
 

@@ -173,7 +173,19 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
                  origin.c_str(), plan_.groups.size() * group_seconds_, text.c_str());
   }
 
+  // Also run by the ~rate timer: no exception may escape into the nodelet manager.
   bool onScan(body_scan_msgs::Scan::Request& request, body_scan_msgs::Scan::Response& response) {
+    try {
+      return scan(request, response);
+    } catch (const std::exception& e) {
+      response.success = false;
+      response.message = std::string("scan failed: ") + e.what();
+      NODELET_ERROR("%s", response.message.c_str());
+      return true;
+    }
+  }
+
+  bool scan(body_scan_msgs::Scan::Request& request, body_scan_msgs::Scan::Response& response) {
     std::lock_guard<std::mutex> lock(scan_mutex_);  // one scan at a time
     // Drivers write their factory calibration and announce their pose as they come up: wait
     // up to ~plan_wait for the whole rig before giving up.
