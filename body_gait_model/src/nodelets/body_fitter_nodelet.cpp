@@ -7,6 +7,7 @@
 #include <body_gait_model/fit_options_file.h>
 #include <body_gait_model/ros/body_model_msg.h>
 #include <body_gait_model/urdf.h>
+#include <malloc.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -67,6 +68,9 @@ class BodyFitterNodelet : public nodelet::Nodelet {
       tf_->sendTransform(modelTransforms(fit.model, header, link_prefix_));
       getNodeHandle().setParam("robot_description",
                                modelUrdf(fit.model, "body_gait", link_prefix_));
+      // A fit's temporaries (tens of MB), once freed, stay with glibc's per-thread arenas (soak:
+      // RSS +28 % over 300 scans with 2.5 MB in use); hand them back to the system.
+      malloc_trim(0);
       if (fit.quality.low_quality)
         NODELET_WARN("%zu points fitted in %.0f ms: LOW QUALITY (%s)", cloud.size(), 1000 * seconds,
                      fit.quality.reason.c_str());
