@@ -18,6 +18,7 @@
 #include <body_gait_model/walk_collector.h>
 #include <body_scan_msgs/GaitSequence.h>
 #include <body_scan_msgs/ScanReport.h>
+#include <malloc.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -210,6 +211,9 @@ class BodyFitterNodelet : public nodelet::Nodelet {
       NODELET_ERROR_THROTTLE(5.0, "%s not fitted: unknown error",
                              ids[0].walk_id ? "walk" : "cloud");
     }
+    // A fit's temporaries (tens of MB), once freed, stay with glibc's per-thread arenas (soak:
+    // RSS +28 % over 300 scans with 2.5 MB in use); hand them back to the system.
+    malloc_trim(0);
   }
 
   void publish(const TimedFit& timed, const sensor_msgs::PointCloud2& msg, const ScanIds& ids,
