@@ -1,7 +1,9 @@
 // gait_id_node end to end: 6 simulated people enrolled through ~enroll, 24 probes (another walk
 // of each) identified through ~identify and the /body_gait/model topic; the node is stopped and
 // a new one started on the same gallery file gives the same answers; a corrupt gallery file is
-// reported in the log and in every service reply while the node keeps running.
+// reported in the log and in every service reply while the node keeps running; a walk's 4 models
+// on the topic give 4 scan answers and one walk answer (an enrolled person's accepted, a
+// stranger's rejected).
 #include <body_gait_model/eval/gait_subjects.h>
 #include <body_gait_model/eval/skeleton_model.h>
 #include <body_gait_model/ros/body_model_msg.h>
@@ -15,13 +17,18 @@
 #include <ros/package.h>
 #include <ros/ros.h>
 #include <signal.h>
+#include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -230,7 +237,27 @@ TEST_F(GaitIdNodeTest, EnrolRestartIdentifySameAnswers) {
     EXPECT_EQ(identities[0].name, people_[person].name);
     EXPECT_DOUBLE_EQ(identities[0].score, before[9].score);
     EXPECT_EQ(identities[0].accepted, before[9].score <= 3.0);
+
+    // A refused enrolment names the bad field (and not the person) in the reply.
+    body_scan_msgs::EnrollSubject refused = enrolment(0);
+    refused.request.poses[2].q[3] = std::nan("");
+    const std::string message = node.call("enroll", refused).response.message;
+    EXPECT_NE(message.find("BodyModel.q[3] is not finite"), std::string::npos) << message;
   }  // the first node stops here
+
+  // Biometric hygiene: names stay out of the node's log above DEBUG (its whole output at the
+  // default level, after enrolments, identifications and a refusal), and the gallery file it
+  // created is its owner's only.
+  {
+    std::ifstream in(dir_ / "first.log");
+    std::stringstream log;
+    log << in.rdbuf();
+    ASSERT_NE(log.str().find("enrolled subject"), std::string::npos) << log.str();
+    for (const auto& person : people_)
+      EXPECT_EQ(log.str().find(person.name), std::string::npos) << person.name << " logged";
+    EXPECT_EQ(fs::status(database).permissions() & fs::perms::all,
+              fs::perms::owner_read | fs::perms::owner_write);
+  }
 
   NodeProcess node("gait_id_second", database, (dir_ / "second.log").string());
   ASSERT_TRUE(node.waitForServices()) << node.log();
@@ -311,6 +338,80 @@ TEST_F(GaitIdNodeTest, ShapeFeaturesAndNoiseWeightsThroughParameters) {
   EXPECT_GE(shaped_correct, 4 * kPeople - 1);
 }
 
+TEST_F(GaitIdNodeTest, AWalksFourModelsAreIdentifiedAsOneWalk) {
+  const std::string database = (dir_ / "walks.db").string();
+  // The recognition.launch features (shape, median body, noise weights) and the default walk
+  // threshold; people 0-2 enrolled, person 4 a stranger.
+  NodeProcess node("gait_id_walks", database, (dir_ / "walks.log").string(),
+                   {"_feature_set:=dynamic_static_shape", "_walk_body:=median",
+                    "_feature_noise:=" + featureNoiseFile()});
+  ASSERT_TRUE(node.waitForServices()) << node.log();
+  std::vector<std::int64_t> ids;
+  for (int person = 0; person < 3; ++person) {
+    const auto srv = node.call("enroll", enrolment(person));
+    ASSERT_TRUE(srv.response.success) << srv.response.message;
+    ids.push_back(srv.response.subject_id);
+  }
+  ros::NodeHandle nh;
+  std::vector<body_scan_msgs::Identity> identities;
+  ros::Subscriber sub = nh.subscribe<body_scan_msgs::Identity>(
+      "/body_gait/identity", 20,
+      [&](const body_scan_msgs::Identity::ConstPtr& msg) { identities.push_back(*msg); });
+  ros::Publisher pub = nh.advertise<body_scan_msgs::BodyModel>("/body_gait/model", 8);
+  for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10);
+       ros::WallTime::now() < end && (pub.getNumSubscribers() == 0 || sub.getNumPublishers() == 0);
+       ros::WallDuration(0.02).sleep()) {
+  }
+  const auto walkAnswer = [&](int person, std::uint32_t walk_id) {
+    for (int index = 1; index <= 4; ++index) {
+      body_scan_msgs::BodyModel model =
+          modelMsg(body_gait_model::eval::walkingSubject(people_[person], index, 1));
+      model.header.stamp = ros::Time(100 * walk_id + index, 0);
+      model.walk_id = walk_id;
+      model.pose_index = index;
+      model.scan_id = 10 * walk_id + index;
+      pub.publish(model);
+    }
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(15);
+    while (ros::WallTime::now() < deadline) {
+      ros::spinOnce();
+      for (const auto& identity : identities)
+        if (identity.kind == body_scan_msgs::Identity::WALK && identity.walk_id == walk_id)
+          return std::optional<body_scan_msgs::Identity>(identity);
+      ros::WallDuration(0.02).sleep();
+    }
+    return std::optional<body_scan_msgs::Identity>();
+  };
+  const auto known = walkAnswer(1, 21);
+  ASSERT_TRUE(known) << "no walk identity for walk 21";
+  EXPECT_EQ(known->subject_id, ids[1]);
+  EXPECT_EQ(known->name, people_[1].name);
+  EXPECT_TRUE(known->accepted) << "score " << known->score;
+  EXPECT_DOUBLE_EQ(known->threshold, 15.5);
+  ASSERT_EQ(known->ranked_subject_ids.size(), 3u);  // rank-5 list of a 3-person gallery
+  EXPECT_EQ(known->ranked_subject_ids[0], ids[1]);
+  EXPECT_DOUBLE_EQ(known->ranked_scores[0], known->score);
+  EXPECT_TRUE(std::is_sorted(known->ranked_scores.begin(), known->ranked_scores.end()));
+  // Each of the walk's models was also answered as a single scan, with its walk and pose.
+  std::vector<int> scan_poses;
+  for (const auto& identity : identities)
+    if (identity.kind == body_scan_msgs::Identity::SCAN && identity.walk_id == 21) {
+      scan_poses.push_back(identity.pose_index);
+      EXPECT_EQ(identity.scan_id, 210u + identity.pose_index);
+      EXPECT_EQ(identity.ranked_subject_ids.size(), 3u);
+    }
+  EXPECT_EQ(scan_poses, (std::vector<int>{1, 2, 3, 4}));
+
+  const auto stranger = walkAnswer(4, 22);
+  ASSERT_TRUE(stranger) << "no walk identity for walk 22";
+  EXPECT_FALSE(stranger->accepted) << "a stranger's walk was accepted as " << stranger->name
+                                   << " with score " << stranger->score;
+  std::printf(
+      "[ figure ] walk of an enrolled person: score %.2f (accepted); a stranger's walk: "
+      "nearest %s, score %.2f (rejected at %.1f)\n",
+      known->score, stranger->name.c_str(), stranger->score, stranger->threshold);
+}
+
 TEST_F(GaitIdNodeTest, CorruptGalleryIsReportedAndTheNodeKeepsRunning) {
   const std::string database = (dir_ / "corrupt.db").string();
   std::ofstream(database) << std::string(4096, 'x');
@@ -331,6 +432,85 @@ TEST_F(GaitIdNodeTest, CorruptGalleryIsReportedAndTheNodeKeepsRunning) {
   EXPECT_FALSE(node.call<body_scan_msgs::ListSubjects>("list").response.success);
   EXPECT_TRUE(node.alive());
   EXPECT_NE(node.log().find("file is not a database"), std::string::npos) << node.log();
+}
+
+// The gallery's file system full, then read-only, during enrolment: the enrolment fails with an
+// error naming the file and the fix, the node keeps running, and the gallery holds exactly the
+// subjects enrolled before (also for a new node on the file). A small tmpfs when the test may
+// mount one (root), else a read-only directory (the read-only half only).
+TEST_F(GaitIdNodeTest, FullOrReadOnlyDiskFailsEnrolmentAndKeepsTheGallery) {
+  const fs::path volume = dir_ / "volume";
+  fs::create_directories(volume);
+  const bool tmpfs = mount("tmpfs", volume.c_str(), "tmpfs", 0, "size=4m,mode=0700") == 0;
+  if (!tmpfs && geteuid() == 0) GTEST_SKIP() << "root but cannot mount a tmpfs here";
+  struct Unmount {
+    fs::path path;
+    bool mounted;
+    ~Unmount() {
+      if (mounted) umount2(path.c_str(), MNT_DETACH);
+      fs::permissions(path, fs::perms::owner_all, fs::perm_options::add);
+    }
+  } unmount{volume, tmpfs};
+  const std::string database = (volume / "gallery.db").string();
+  auto names = [](const NodeProcess& node) {
+    const auto list = node.call<body_scan_msgs::ListSubjects>("list");
+    EXPECT_TRUE(list.response.success) << list.response.message;
+    return list.response.names;
+  };
+  auto expectCannotWrite = [&](const body_scan_msgs::EnrollSubject& enrol) {
+    EXPECT_FALSE(enrol.response.success);
+    EXPECT_NE(enrol.response.message.find("cannot write gallery database '" + database + "'"),
+              std::string::npos)
+        << enrol.response.message;
+    std::printf("[ figure ] enrolment refused: %s\n", enrol.response.message.c_str());
+  };
+  std::vector<std::string> enrolled;
+  {
+    NodeProcess node("gait_id_disk", database, (dir_ / "disk.log").string());
+    ASSERT_TRUE(node.waitForServices()) << node.log();
+    ASSERT_TRUE(node.call("enroll", enrolment(0)).response.success);
+    enrolled.push_back(people_[0].name);
+    if (tmpfs) {  // fill the file system, enrol, free the space, enrol again
+      {
+        std::ofstream filler(volume / "filler", std::ios::binary);
+        const std::string block(4096, 'f');
+        while (filler.write(block.data(), block.size()) && filler.flush()) {
+        }
+      }
+      expectCannotWrite(node.call("enroll", enrolment(1)));
+      EXPECT_EQ(names(node), enrolled);
+      fs::remove(volume / "filler");
+      ASSERT_TRUE(node.call("enroll", enrolment(1)).response.success);
+      enrolled.push_back(people_[1].name);
+      EXPECT_TRUE(node.alive());
+    }
+  }
+  // Read-only: the volume remounted so (a file system with open writers cannot be), or, not
+  // root, the directory and its files made read-only; a node started on it cannot enrol.
+  if (tmpfs) {
+    ASSERT_EQ(mount(nullptr, volume.c_str(), nullptr, MS_REMOUNT | MS_RDONLY, "size=4m"), 0)
+        << std::strerror(errno);
+  } else {
+    for (const auto& entry : fs::directory_iterator(volume))
+      fs::permissions(entry.path(), fs::perms::owner_read);
+    fs::permissions(volume, fs::perms::owner_read | fs::perms::owner_exec);
+  }
+  {
+    NodeProcess node("gait_id_readonly", database, (dir_ / "readonly.log").string());
+    ASSERT_TRUE(node.waitForServices()) << node.log();
+    expectCannotWrite(node.call("enroll", enrolment(2)));
+    EXPECT_TRUE(node.alive());
+  }
+  if (tmpfs) {
+    ASSERT_EQ(mount(nullptr, volume.c_str(), nullptr, MS_REMOUNT, "size=4m"), 0);
+  } else {
+    fs::permissions(volume, fs::perms::owner_all);
+    for (const auto& entry : fs::directory_iterator(volume))
+      fs::permissions(entry.path(), fs::perms::owner_read | fs::perms::owner_write);
+  }
+  NodeProcess reopened("gait_id_reopened", database, (dir_ / "reopened.log").string());
+  ASSERT_TRUE(reopened.waitForServices()) << reopened.log();
+  EXPECT_EQ(names(reopened), enrolled);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 //                     [--missing-pairs pole_c/pair_2,...] [--only SUBJECT]
 //                     [--clouds DIR] [--rig RIG.yaml] [--dark-albedo A] [--people N]
 //                     [--lean-deg D] [--fit scan|walk] [--joint-limits walking|thesis]
+//                     [--body ellipsoid|mesh]
 //                     [--out report.yaml]        (all options: evaluate_body_fit --help)
 //
 // After the summary: per joint the mean error and mean offset (fitted - true) in the true body
@@ -29,6 +30,9 @@
 // instead of the walking ranges. The summary adds per-walk and per-pose lines, the
 // Procrustes-aligned joint error, the fits reaching a joint limit and the low-quality flag's
 // precision and recall for "mean joint error > 50 mm".
+// --body mesh dresses every subject (and BVH walker) with the skinned mesh human
+// (body_scan_driver/sim/mesh_human.h: a person of the subject's stature, sex and build) instead of
+// the ellipsoids; the truth is the mesh's skeleton.
 //
 // Motion-capture subjects (issue 7): --bvh [PERSON=]WALK.bvh,... replaces the simulated subjects
 // by real walks: in each walk the 4 poses of 5.3 are picked (body_scan_driver's pickGaitPoses),
@@ -148,6 +152,9 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& settings) {
   app.add_option("--picture", settings.picture,
                  "PNG: every case's cloud from the side with the fitted (red) and true (green) "
                  "joints");
+  std::string body = "ellipsoid";
+  app.add_option("--body", body, "the simulated body: ellipsoid (default) or mesh")
+      ->check(CLI::IsMember({"ellipsoid", "mesh"}));
   app.add_option("--out", settings.out, "YAML report");
   std::string fit_mode = "scan", joint_limits = "walking";
   app.add_option("--fit", fit_mode,
@@ -168,6 +175,7 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& settings) {
   settings.walk_fit = fit_mode == "walk";
   settings.options.joint_limits = joint_limits == "thesis" ? body_gait_model::thesisJointLimits()
                                                            : body_gait_model::walkingJointLimits();
+  settings.rig.body = settings.scanner.body = body_gait_model::eval::parseBodyKind(body);
   return std::nullopt;
 }
 
