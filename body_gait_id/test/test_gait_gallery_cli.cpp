@@ -97,6 +97,9 @@ TEST_F(GaitGalleryCli, EnrolListIdentifyExportRemove) {
   int lines = 0;
   for (std::string line; std::getline(in, line);) ++lines;
   EXPECT_EQ(lines, 1 + 80);
+  // Names and biometrics: the export is its owner's only, like the gallery.
+  EXPECT_EQ(fs::status(csv).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write);
 
   EXPECT_EQ(run("remove 1").status, 0);
   r = run("remove 1");

@@ -17,11 +17,15 @@
 #include <ros/package.h>
 #include <ros/ros.h>
 #include <signal.h>
+#include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -233,7 +237,27 @@ TEST_F(GaitIdNodeTest, EnrolRestartIdentifySameAnswers) {
     EXPECT_EQ(identities[0].name, people_[person].name);
     EXPECT_DOUBLE_EQ(identities[0].score, before[9].score);
     EXPECT_EQ(identities[0].accepted, before[9].score <= 3.0);
+
+    // A refused enrolment names the bad field (and not the person) in the reply.
+    body_scan_msgs::EnrollSubject refused = enrolment(0);
+    refused.request.poses[2].q[3] = std::nan("");
+    const std::string message = node.call("enroll", refused).response.message;
+    EXPECT_NE(message.find("BodyModel.q[3] is not finite"), std::string::npos) << message;
   }  // the first node stops here
+
+  // Biometric hygiene: names stay out of the node's log above DEBUG (its whole output at the
+  // default level, after enrolments, identifications and a refusal), and the gallery file it
+  // created is its owner's only.
+  {
+    std::ifstream in(dir_ / "first.log");
+    std::stringstream log;
+    log << in.rdbuf();
+    ASSERT_NE(log.str().find("enrolled subject"), std::string::npos) << log.str();
+    for (const auto& person : people_)
+      EXPECT_EQ(log.str().find(person.name), std::string::npos) << person.name << " logged";
+    EXPECT_EQ(fs::status(database).permissions() & fs::perms::all,
+              fs::perms::owner_read | fs::perms::owner_write);
+  }
 
   NodeProcess node("gait_id_second", database, (dir_ / "second.log").string());
   ASSERT_TRUE(node.waitForServices()) << node.log();
@@ -408,6 +432,85 @@ TEST_F(GaitIdNodeTest, CorruptGalleryIsReportedAndTheNodeKeepsRunning) {
   EXPECT_FALSE(node.call<body_scan_msgs::ListSubjects>("list").response.success);
   EXPECT_TRUE(node.alive());
   EXPECT_NE(node.log().find("file is not a database"), std::string::npos) << node.log();
+}
+
+// The gallery's file system full, then read-only, during enrolment: the enrolment fails with an
+// error naming the file and the fix, the node keeps running, and the gallery holds exactly the
+// subjects enrolled before (also for a new node on the file). A small tmpfs when the test may
+// mount one (root), else a read-only directory (the read-only half only).
+TEST_F(GaitIdNodeTest, FullOrReadOnlyDiskFailsEnrolmentAndKeepsTheGallery) {
+  const fs::path volume = dir_ / "volume";
+  fs::create_directories(volume);
+  const bool tmpfs = mount("tmpfs", volume.c_str(), "tmpfs", 0, "size=4m,mode=0700") == 0;
+  if (!tmpfs && geteuid() == 0) GTEST_SKIP() << "root but cannot mount a tmpfs here";
+  struct Unmount {
+    fs::path path;
+    bool mounted;
+    ~Unmount() {
+      if (mounted) umount2(path.c_str(), MNT_DETACH);
+      fs::permissions(path, fs::perms::owner_all, fs::perm_options::add);
+    }
+  } unmount{volume, tmpfs};
+  const std::string database = (volume / "gallery.db").string();
+  auto names = [](const NodeProcess& node) {
+    const auto list = node.call<body_scan_msgs::ListSubjects>("list");
+    EXPECT_TRUE(list.response.success) << list.response.message;
+    return list.response.names;
+  };
+  auto expectCannotWrite = [&](const body_scan_msgs::EnrollSubject& enrol) {
+    EXPECT_FALSE(enrol.response.success);
+    EXPECT_NE(enrol.response.message.find("cannot write gallery database '" + database + "'"),
+              std::string::npos)
+        << enrol.response.message;
+    std::printf("[ figure ] enrolment refused: %s\n", enrol.response.message.c_str());
+  };
+  std::vector<std::string> enrolled;
+  {
+    NodeProcess node("gait_id_disk", database, (dir_ / "disk.log").string());
+    ASSERT_TRUE(node.waitForServices()) << node.log();
+    ASSERT_TRUE(node.call("enroll", enrolment(0)).response.success);
+    enrolled.push_back(people_[0].name);
+    if (tmpfs) {  // fill the file system, enrol, free the space, enrol again
+      {
+        std::ofstream filler(volume / "filler", std::ios::binary);
+        const std::string block(4096, 'f');
+        while (filler.write(block.data(), block.size()) && filler.flush()) {
+        }
+      }
+      expectCannotWrite(node.call("enroll", enrolment(1)));
+      EXPECT_EQ(names(node), enrolled);
+      fs::remove(volume / "filler");
+      ASSERT_TRUE(node.call("enroll", enrolment(1)).response.success);
+      enrolled.push_back(people_[1].name);
+      EXPECT_TRUE(node.alive());
+    }
+  }
+  // Read-only: the volume remounted so (a file system with open writers cannot be), or, not
+  // root, the directory and its files made read-only; a node started on it cannot enrol.
+  if (tmpfs) {
+    ASSERT_EQ(mount(nullptr, volume.c_str(), nullptr, MS_REMOUNT | MS_RDONLY, "size=4m"), 0)
+        << std::strerror(errno);
+  } else {
+    for (const auto& entry : fs::directory_iterator(volume))
+      fs::permissions(entry.path(), fs::perms::owner_read);
+    fs::permissions(volume, fs::perms::owner_read | fs::perms::owner_exec);
+  }
+  {
+    NodeProcess node("gait_id_readonly", database, (dir_ / "readonly.log").string());
+    ASSERT_TRUE(node.waitForServices()) << node.log();
+    expectCannotWrite(node.call("enroll", enrolment(2)));
+    EXPECT_TRUE(node.alive());
+  }
+  if (tmpfs) {
+    ASSERT_EQ(mount(nullptr, volume.c_str(), nullptr, MS_REMOUNT, "size=4m"), 0);
+  } else {
+    fs::permissions(volume, fs::perms::owner_all);
+    for (const auto& entry : fs::directory_iterator(volume))
+      fs::permissions(entry.path(), fs::perms::owner_read | fs::perms::owner_write);
+  }
+  NodeProcess reopened("gait_id_reopened", database, (dir_ / "reopened.log").string());
+  ASSERT_TRUE(reopened.waitForServices()) << reopened.log();
+  EXPECT_EQ(names(reopened), enrolled);
 }
 
 }  // namespace

@@ -138,8 +138,10 @@ class GaitIdNode {
       res.pose_count = static_cast<int>(poses.size());
       res.success = true;
       matcher_.reset();
-      ROS_INFO("enrolled '%s' as subject %ld (%d poses)", req.name.c_str(),
-               static_cast<long>(res.subject_id), res.pose_count);
+      // Names are personal data: above DEBUG the logs carry subject ids only.
+      ROS_INFO("enrolled subject %ld (%d poses)", static_cast<long>(res.subject_id),
+               res.pose_count);
+      ROS_DEBUG("subject %ld is '%s'", static_cast<long>(res.subject_id), req.name.c_str());
     } catch (const GalleryError& e) {
       res.message = e.what();
       reset(e);
@@ -186,6 +188,9 @@ class GaitIdNode {
     } catch (const GalleryError& e) {
       res.message = e.what();
       reset(e);
+    } catch (const std::exception& e) {
+      res.message = e.what();
+      ROS_ERROR("%s", res.message.c_str());
     }
     return true;
   }
@@ -203,6 +208,9 @@ class GaitIdNode {
     } catch (const GalleryError& e) {
       res.message = e.what();
       reset(e);
+    } catch (const std::exception& e) {
+      res.message = e.what();
+      ROS_ERROR("%s", res.message.c_str());
     }
     return true;
   }
@@ -222,14 +230,15 @@ class GaitIdNode {
       for (std::size_t i = 0; i < ranked.size() && i < static_cast<std::size_t>(ranks_); ++i)
         addRank(identity, ranked[i].subject_id, ranked[i].score);
       identity_pub_.publish(identity);
-      ROS_INFO("identified %s: subject %ld '%s', sequence %d, frame %d, score %.3f (%s)",
-               scanName(*msg).c_str(), static_cast<long>(identity.subject_id),
-               identity.name.c_str(), identity.sequence, identity.frame, identity.score,
-               identity.accepted ? "accepted" : "rejected");
+      ROS_INFO("identified %s: subject %ld, sequence %d, frame %d, score %.3f (%s)",
+               scanName(*msg).c_str(), static_cast<long>(identity.subject_id), identity.sequence,
+               identity.frame, identity.score, identity.accepted ? "accepted" : "rejected");
     } catch (const GalleryError& e) {
       reset(e);
-    } catch (const std::exception& e) {
+    } catch (const std::exception& e) {  // fromMsg names the bad field
       ROS_ERROR_THROTTLE(5.0, "model on body_gait/model not identified: %s", e.what());
+    } catch (...) {
+      ROS_ERROR_THROTTLE(5.0, "model on body_gait/model not identified: unknown error");
     }
     if (msg->walk_id != 0) collectWalk(msg);
   }
@@ -282,13 +291,15 @@ class GaitIdNode {
       for (std::size_t i = 0; i < ranked.size() && i < static_cast<std::size_t>(ranks_); ++i)
         addRank(identity, ranked[i].subject_id, ranked[i].score);
       identity_pub_.publish(identity);
-      ROS_INFO("identified walk %u: subject %ld '%s', score %.3f (%s)", identity.walk_id,
-               static_cast<long>(identity.subject_id), identity.name.c_str(), identity.score,
+      ROS_INFO("identified walk %u: subject %ld, score %.3f (%s)", identity.walk_id,
+               static_cast<long>(identity.subject_id), identity.score,
                identity.accepted ? "accepted" : "rejected: unknown person");
     } catch (const GalleryError& e) {
       reset(e);
     } catch (const std::exception& e) {
       ROS_ERROR("walk %u not identified: %s", msg->walk_id, e.what());
+    } catch (...) {  // nothing may escape into the node's spinner
+      ROS_ERROR("walk %u not identified: unknown error", msg->walk_id);
     }
   }
 

@@ -3,14 +3,15 @@
 #include <body_gait_id/feature_noise_file.h>
 #include <body_gait_id/gallery_database.h>
 #include <body_gait_id/models_file.h>
+#include <body_scan_driver/atomic_file.h>
 #include <body_gait_id/walk_identification.h>
 #include <body_scan_driver/tools/command_line.h>
 
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
+#include <sstream>
 
 #include "walk_bag.h"
 
@@ -157,17 +158,17 @@ int run(const Arguments& args) {
   if (args.command == "export") {
     const std::string& format = args.format;
     const std::string& output = args.output;
-    std::ofstream file;
-    if (!output.empty()) {
-      file.open(output);
-      if (!file) throw std::runtime_error("cannot write '" + output + "': check the directory");
-    }
-    std::ostream& out = output.empty() ? std::cout : file;
+    std::ostringstream text;
     if (format == "csv")
-      exportGalleryCsv(db, out);
+      exportGalleryCsv(db, text);
     else
-      exportGalleryYaml(db, out);
-    if (!out) throw std::runtime_error("writing the export failed (disk full?)");
+      exportGalleryYaml(db, text);
+    if (output.empty()) {
+      std::cout << text.str();
+      if (!std::cout) throw std::runtime_error("writing the export failed (disk full?)");
+    } else {  // names and biometrics: readable by the owner only, like the gallery
+      body_scan_driver::writeFileAtomically(output, text.str(), /*owner_only=*/true);
+    }
     return 0;
   }
   if (args.command == "identify") {

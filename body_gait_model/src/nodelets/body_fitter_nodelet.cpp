@@ -198,10 +198,13 @@ class BodyFitterNodelet : public nodelet::Nodelet {
       for (std::size_t i = 0; i < fits.size(); ++i) publish(fits[i], *msgs[i], ids[i], clouds[i]);
       if (fits.size() == static_cast<std::size_t>(kWalkPoses))
         publishCycle(fits, *msgs.back(), ids[0]);
-    } catch (const std::exception& e) {
+    } catch (const std::exception& e) {  // cloudFromMsg names the bad field
       NODELET_ERROR_THROTTLE(
           5.0, "%s not fitted: %s",
           ids[0].walk_id ? ("walk " + std::to_string(ids[0].walk_id)).c_str() : "cloud", e.what());
+    } catch (...) {  // nothing may escape into the nodelet manager
+      NODELET_ERROR_THROTTLE(5.0, "%s not fitted: unknown error",
+                             ids[0].walk_id ? "walk" : "cloud");
     }
   }
 

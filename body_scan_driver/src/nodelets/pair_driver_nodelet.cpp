@@ -213,18 +213,26 @@ class PairDriverNodelet : public nodelet::Nodelet {
     } catch (const std::exception& e) {
       message = std::string("capture failed: ") + e.what();
       return false;
+    } catch (...) {
+      message = "capture failed: unknown error";
+      return false;
     }
     std_msgs::Header header;
     header.stamp = ros::Time::now();
     header.frame_id = frame_id_;
-    const body_scan_msgs::PatternSetPtr set = toPatternSet(
-        capture, device_->layout(), device_->camera(), header, pair_id_, last_scan_id_);
-    set->walk_id = walk_id;
-    set->pose_index = pose_index;
-    pattern_pub_.publish(set);  // shared pointer: zero copy to nodelets in this manager
-    ++published_sets_;
-    if (image_pub_.getNumSubscribers() > 0) image_pub_.publish(set->texture);
-    info_pub_.publish(set->camera_info);
+    try {  // nothing may escape into the nodelet manager (a trigger is a callback)
+      const body_scan_msgs::PatternSetPtr set = toPatternSet(
+          capture, device_->layout(), device_->camera(), header, pair_id_, last_scan_id_);
+      set->walk_id = walk_id;
+      set->pose_index = pose_index;
+      pattern_pub_.publish(set);  // shared pointer: zero copy to nodelets in this manager
+      ++published_sets_;
+      if (image_pub_.getNumSubscribers() > 0) image_pub_.publish(set->texture);
+      info_pub_.publish(set->camera_info);
+    } catch (const std::exception& e) {
+      message = std::string("publishing the pattern set failed: ") + e.what();
+      return false;
+    }
     message = "captured scan " + std::to_string(last_scan_id_);
     return true;
   }

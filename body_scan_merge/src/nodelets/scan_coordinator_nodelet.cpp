@@ -30,6 +30,7 @@
 #include <algorithm>
 #include <array>
 #include <condition_variable>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -37,6 +38,8 @@
 #include <set>
 #include <sstream>
 #include <thread>
+
+#include "master_watch.h"
 
 namespace body_scan_merge {
 
@@ -103,6 +106,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
           trigger_.notify_all();
         });
     walk_srv_ = mt.advertiseService("capture_walk", &ScanCoordinatorNodelet::onCaptureWalk, this);
+    master_watch_ = MasterWatch::acquire();  // registers again with a restarted master
     const double rate = pnh.param("rate", 0.0);
     if (rate > 0)
       scan_timer_ =
@@ -205,13 +209,32 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
                  origin.c_str(), plan_.groups.size() * group_seconds_, text.c_str());
   }
 
+  // Also run by the ~rate timer: no exception may escape into the nodelet manager.
   bool onScan(body_scan_msgs::Scan::Request& request, body_scan_msgs::Scan::Response& response) {
-    scan(request.scan_id, 0, 0, response);
+    try {
+      scan(request.scan_id, 0, 0, response);
+    } catch (const std::exception& e) {
+      response.success = false;
+      response.message = std::string("scan failed: ") + e.what();
+      NODELET_ERROR("%s", response.message.c_str());
+    }
     return true;
   }
 
   bool onCaptureWalk(body_scan_msgs::CaptureWalk::Request& request,
                      body_scan_msgs::CaptureWalk::Response& response) {
+    try {
+      captureWalk(request, response);
+    } catch (const std::exception& e) {
+      response.success = false;
+      response.message = std::string("walk capture failed: ") + e.what();
+      NODELET_ERROR("%s", response.message.c_str());
+    }
+    return true;
+  }
+
+  void captureWalk(const body_scan_msgs::CaptureWalk::Request& request,
+                   body_scan_msgs::CaptureWalk::Response& response) {
     std::lock_guard<std::mutex> walk_lock(walk_mutex_);  // one walk at a time
     response.walk_id = next_walk_id_ = request.walk_id != 0 ? request.walk_id : next_walk_id_ + 1;
     const double pause = request.pause >= 0 ? request.pause : walk_pause_;
@@ -255,7 +278,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
                              std::to_string(walk_trigger_timeout_) + " s) for " + step +
                              "; publish std_msgs/Empty there when the subject is in pose";
           report(body_scan_msgs::WalkProgress::FAILED, response.message);
-          return true;
+          return;
         }
       } else if (pause > 0) {
         ros::WallDuration(pause).sleep();
@@ -270,7 +293,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
         response.message = "walk " + std::to_string(response.walk_id) + " abandoned at " + step +
                            ": " + scanned.message;
         report(body_scan_msgs::WalkProgress::FAILED, response.message);
-        return true;
+        return;
       }
       report(body_scan_msgs::WalkProgress::SCANNED, step + ": " + scanned.message);
     }
@@ -281,7 +304,6 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     for (const std::string& id : response.pairs_missing) response.message += "; missing " + id;
     progress.scan_id = 0;
     report(body_scan_msgs::WalkProgress::DONE, response.message);
-    return true;
   }
 
   // One whole-body scan (walk_id, pose_index: its walk session, 0 for none).
@@ -347,11 +369,13 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
         for (const std::string& other : group)
           if (other != id) capture.request.active_pairs.push_back(other);
         const std::string service = ros::names::append(root_, id + "/driver/capture");
+        ros::ServiceClient client = pairClient(service);
         std::string error;
         // A driver may still be coming up: wait for its service as long as for its answer.
-        if (!ros::service::waitForService(service, ros::Duration(pair_timeout_)))
+        if (!client.isValid() &&
+            !ros::service::waitForService(service, ros::Duration(pair_timeout_)))
           error = service + " is not advertised (is the pair's driver running?)";
-        else if (!ros::service::call(service, capture))
+        else if (!client.call(capture))
           error = service + " call failed";
         else if (!capture.response.success)
           error = capture.response.message;
@@ -374,7 +398,19 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
       if (!call->answered.count(id) || call->failed.count(id)) missing.push_back(id);
   }
 
+  // A persistent connection per pair: captures need no master once connected (a restarted
+  // master knows no services until they register again); a dropped one is made again.
+  ros::ServiceClient pairClient(const std::string& service) {
+    std::lock_guard<std::mutex> lock(clients_mutex_);
+    ros::ServiceClient& client = clients_[service];
+    if (!client.isValid())
+      client = getNodeHandle().serviceClient<body_scan_msgs::Capture>(service, /*persistent=*/true);
+    return client;
+  }
+
   std::vector<std::string> pairs_;
+  std::map<std::string, ros::ServiceClient> clients_;
+  std::mutex clients_mutex_;
   std::string calibration_dir_, calibration_suffix_, world_frame_, root_;
   double group_seconds_ = 0.5, pair_timeout_ = 10.0, plan_wait_ = 30.0;
   bool all_at_once_ = false;
@@ -403,6 +439,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
   ros::Publisher groups_pub_;
   ros::ServiceServer capture_srv_;
   ros::WallTimer scan_timer_;
+  std::shared_ptr<MasterWatch> master_watch_;
 };
 
 }  // namespace body_scan_merge

@@ -3,6 +3,7 @@
 // Decoding and triangulation are body_scan_driver's core functions; this is the ROS wrapper.
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/ros/conversions.h>
+#include <body_scan_driver/ros/message_checks.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
 #include <body_scan_msgs/PairCloud.h>
@@ -15,21 +16,19 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <memory>
-#include <optional>
 #include <pluginlib/class_list_macros.hpp>
+
+#include "master_watch.h"
 
 namespace body_scan_merge {
 namespace {
 
-// A cv::Mat header over an image message's bytes (no copy); nullopt if the encoding differs.
-std::optional<cv::Mat> view(const sensor_msgs::Image& image, const std::string& encoding,
-                            int type) {
-  if (image.encoding != encoding ||
-      image.data.size() < static_cast<size_t>(image.step) * image.height)
-    return std::nullopt;
-  return cv::Mat(image.height, image.width, type, const_cast<uint8_t*>(image.data.data()),
-                 image.step);
+// A cv::Mat header over an image message's bytes (no copy); the image has passed checkImage.
+cv::Mat view(const sensor_msgs::Image& image, int type) {
+  return cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), type,
+                 const_cast<uint8_t*>(image.data.data()), image.step);
 }
 
 float packRgb(uint8_t r, uint8_t g, uint8_t b) {  // PCL's packed-float rgb field
@@ -56,53 +55,62 @@ class TriangulateNodelet : public nodelet::Nodelet {
     scan_points_pub_ = nh.advertise<body_scan_msgs::PairCloud>("scan_points", 2);
     stripe_pub_ = nh.advertise<sensor_msgs::Image>("stripe_image", 2);
     pattern_sub_ = nh.subscribe("pattern_set", 2, &TriangulateNodelet::onPatternSet, this);
+    master_watch_ = MasterWatch::acquire();  // registers again with a restarted master
     if (calibration_file_.empty())
       NODELET_ERROR("~calibration_file is not set: point it at the pair's calibration YAML");
   }
 
   // Loads the calibration on first use, so a driver that writes its factory calibration at
-  // start-up may come up after this nodelet.
+  // start-up may come up after this nodelet, and again whenever the file changes. A changed file
+  // that does not load is reported once and the last good calibration stays in use.
   bool ensureCalibration(const std::string& pair_id) {
-    if (triangulator_) return true;
+    std::error_code error;
+    const auto modified = std::filesystem::last_write_time(calibration_file_, error);
+    const FileStamp stamp{error ? decltype(modified)() : modified,
+                          error ? 0 : std::filesystem::file_size(calibration_file_, error)};
+    if (triangulator_ && (stamp == loaded_stamp_ || stamp == rejected_stamp_)) return true;
     try {
-      triangulator_ = std::make_unique<body_scan_driver::Triangulator>(
+      auto triangulator = std::make_unique<body_scan_driver::Triangulator>(
           body_scan_driver::loadCalibration(calibration_file_), min_range_, max_range_);
-      NODELET_INFO("[%s] calibration loaded from %s (%s)%s", pair_id.c_str(),
-                   calibration_file_.c_str(), triangulator_->calibration().source.c_str(),
-                   triangulator_->calibration().alignment
+      NODELET_INFO("[%s] calibration %sloaded from %s (%s)%s", pair_id.c_str(),
+                   triangulator_ ? "re" : "", calibration_file_.c_str(),
+                   triangulator->calibration().source.c_str(),
+                   triangulator->calibration().alignment
                        ? ", world alignment: applying its residual linear part"
                        : "");
+      triangulator_ = std::move(triangulator);
+      loaded_stamp_ = stamp;
+      rejected_stamp_.reset();
       return true;
     } catch (const std::exception& e) {
-      NODELET_ERROR_THROTTLE(5.0, "[%s] %s", pair_id.c_str(), e.what());
-      return false;
+      if (!triangulator_) {
+        NODELET_ERROR_THROTTLE(5.0, "[%s] %s", pair_id.c_str(), e.what());
+        return false;
+      }
+      rejected_stamp_ = stamp;
+      NODELET_ERROR(
+          "[%s] calibration file changed but does not load, keeping the last good "
+          "calibration (%s): %s; fix or restore the file (it is re-read when it changes)",
+          pair_id.c_str(), triangulator_->calibration().source.c_str(), e.what());
+      return true;
     }
   }
 
+  // Nothing of a set that fails checkPatternSet is used; no exception leaves the callback
+  // (it would terminate the whole nodelet manager).
   void onPatternSet(const body_scan_msgs::PatternSet::ConstPtr& set) {
-    const std::string& pair = set->pair_id;
-    if (set->scheme != "gray") {
-      NODELET_ERROR_THROTTLE(5.0,
-                             "[%s] pattern scheme '%s' is not supported; the driver must "
-                             "send scheme 'gray'",
-                             pair.c_str(), set->scheme.c_str());
+    if (const auto problem = body_scan_driver::checkPatternSet(*set)) {
+      if (throttle_.shouldReport(set->pair_id + *problem, ros::WallTime::now().toSec()))
+        NODELET_ERROR("pattern set of '%s' (scan %u) rejected: %s", set->pair_id.c_str(),
+                      set->scan_id, problem->c_str());
       return;
     }
-    std::vector<cv::Mat> frames;
-    for (size_t i = 0; i < set->frames.size(); ++i) {
-      const auto frame = view(set->frames[i], sensor_msgs::image_encodings::MONO8, CV_8UC1);
-      if (!frame) {
-        NODELET_ERROR_THROTTLE(5.0,
-                               "[%s] frame %zu has encoding '%s' or a short buffer; "
-                               "pattern frames must be complete mono8 images",
-                               pair.c_str(), i, set->frames[i].encoding.c_str());
-        return;
-      }
-      frames.push_back(*frame);
-    }
-    if (!ensureCalibration(pair)) return;
-    const ros::WallTime start = ros::WallTime::now();
+    const std::string& pair = set->pair_id;
     try {
+      if (!ensureCalibration(pair)) return;
+      const ros::WallTime start = ros::WallTime::now();
+      std::vector<cv::Mat> frames;
+      for (const sensor_msgs::Image& frame : set->frames) frames.push_back(view(frame, CV_8UC1));
       if (!decoder_ || decoder_->layout().bits() != set->bits ||
           decoder_->layout().inverseFrames() != set->inverse_frames)
         decoder_ = std::make_unique<body_scan_driver::StripeDecoder>(
@@ -112,6 +120,9 @@ class TriangulateNodelet : public nodelet::Nodelet {
     } catch (const std::exception& e) {
       NODELET_ERROR_THROTTLE(5.0, "[%s] scan %u not triangulated: %s", pair.c_str(), set->scan_id,
                              e.what());
+    } catch (...) {
+      NODELET_ERROR_THROTTLE(5.0, "[%s] scan %u not triangulated: unknown error", pair.c_str(),
+                             set->scan_id);
     }
   }
 
@@ -139,12 +150,12 @@ class TriangulateNodelet : public nodelet::Nodelet {
         if (std::isfinite(point.z())) point = residual * point;
       }
     }
-    // Colour from the texture where it matches the frames, else white.
-    const auto texture = view(set.texture, sensor_msgs::image_encodings::RGB8, CV_8UC3);
-    const bool coloured = texture && texture->size() == size;
+    // Colour from the texture (checked: the frames' size), else white.
+    const bool coloured = !set.texture.data.empty();
+    const cv::Mat texture = coloured ? view(set.texture, CV_8UC3) : cv::Mat();
     for (int v = 0; v < size.height; ++v)
       for (int u = 0; u < size.width; ++u) {
-        const cv::Vec3b c = coloured ? texture->at<cv::Vec3b>(v, u) : cv::Vec3b(255, 255, 255);
+        const cv::Vec3b c = coloured ? texture.at<cv::Vec3b>(v, u) : cv::Vec3b(255, 255, 255);
         points[4 * (static_cast<size_t>(v) * size.width + u) + 3] = packRgb(c[0], c[1], c[2]);
       }
     pair_cloud->processing_seconds = (ros::WallTime::now() - start).toSec();
@@ -171,10 +182,16 @@ class TriangulateNodelet : public nodelet::Nodelet {
   body_scan_driver::DecoderParams params_;
   double min_range_ = 0.2, max_range_ = 5.0;
   std::unique_ptr<body_scan_driver::Triangulator> triangulator_;
+  // The calibration file's modification time and size when loaded / when it failed to load.
+  using FileStamp = std::pair<std::filesystem::file_time_type, std::uintmax_t>;
+  FileStamp loaded_stamp_;
+  std::optional<FileStamp> rejected_stamp_;
   std::unique_ptr<body_scan_driver::StripeDecoder> decoder_;
   body_scan_driver::StripeImage stripes_;
+  body_scan_driver::ProblemThrottle throttle_;
   ros::Publisher points_pub_, scan_points_pub_, stripe_pub_;
   ros::Subscriber pattern_sub_;
+  std::shared_ptr<MasterWatch> master_watch_;
 };
 
 }  // namespace body_scan_merge
