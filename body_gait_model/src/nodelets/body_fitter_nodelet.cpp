@@ -7,7 +7,8 @@
 // Walk sessions: a cloud's scan id, walk id and pose index are in its ScanReport
 // (/body_scan/scan_report, same header stamp). While a report publisher is connected, a cloud
 // waits up to ~report_wait for its report. A single scan is fitted at once; a walk's 4 clouds
-// are collected and fitted together (fitWalk), then its 4 models and its gait cycle
+// are collected and fitted together (fitWalk: one body for the walk), then its 4 models and its
+// gait cycle
 // (/body_gait/gait_sequence, eqs 5.11-5.13) are published.
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/fit_options_file.h>
@@ -51,15 +52,16 @@ TimedFit fitScan(const Cloud& cloud, const FitOptions& options) {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
 }
 
-// The fits of a walk's 4 clouds (poses s1..s4), fitted together with one body (fitWalk); each
-// scan is given an equal share of the walk's time.
+// The fits of a walk's 4 clouds (poses s1..s4), fitted together (the walk-level fit: one body
+// for the walk, body_fitter.h); each scan is charged an equal share of the time.
 std::vector<TimedFit> fitWalkScans(const std::vector<Cloud>& clouds, const FitOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   WalkFit walk = fitWalk(clouds, options);
   const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
+      static_cast<double>(clouds.size());
   std::vector<TimedFit> fits;
-  for (BodyFit& fit : walk.scans) fits.push_back({std::move(fit), seconds / clouds.size()});
+  for (BodyFit& scan : walk.scans) fits.push_back({std::move(scan), seconds});
   return fits;
 }
 
