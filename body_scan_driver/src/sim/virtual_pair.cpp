@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <opencv2/core.hpp>
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
@@ -80,28 +81,55 @@ float smallerStep(float here, float a, float b) {
   return std::isnan(db) ? da : std::min(da, db);
 }
 
-// Which stripes each frame lights: [frame][stripe].
-std::vector<std::vector<uint8_t>> litStripes(const PatternLayout& layout) {
+// Which frames light each stripe: bit f of [stripe] for frame f.
+std::vector<uint32_t> framesLighting(const PatternLayout& layout) {
   const int frames = layout.frameCount(), stripes = layout.stripeCount();
-  std::vector<std::vector<uint8_t>> lights(frames, std::vector<uint8_t>(stripes));
+  if (frames > 32) throw std::logic_error("framesLighting: more than 32 frames");
+  std::vector<uint32_t> lit_frames(stripes, 0);
   for (int f = 0; f < frames; ++f)
-    for (int k = 0; k < stripes; ++k) lights[f][k] = layout.lights(f, k);
-  return lights;
+    for (int k = 0; k < stripes; ++k)
+      if (layout.lights(f, k)) lit_frames[k] |= uint32_t{1} << f;
+  return lit_frames;
 }
 
 // Fraction of a pixel lit by a frame: a box filter of the lit stripes over the pixel's stripe
 // footprint [stripe - width/2, stripe + width/2], or the stripe under its centre if it is that
-// narrow.
-float litCoverage(float stripe, float width, const std::vector<uint8_t>& lit, int stripes) {
-  if (width < 1e-3f) return lit[std::clamp(static_cast<int>(stripe), 0, stripes - 1)];
-  float coverage = 0;
-  const float lo = stripe - 0.5f * width, hi = stripe + 0.5f * width;
-  for (int k = static_cast<int>(std::floor(lo)); k <= static_cast<int>(std::floor(hi)); ++k)
-    if (k >= 0 && k < stripes && lit[k])
-      coverage += std::min(hi, k + 1.f) - std::max(lo, static_cast<float>(k));
-  coverage /= width;
-  return coverage;
-}
+// narrow. The stripes and their overlaps are found once per pixel, then summed per frame.
+class PixelCoverage {
+ public:
+  PixelCoverage(float stripe, float width, const std::vector<uint32_t>& lit_frames)
+      : width_(width) {
+    const int stripes = static_cast<int>(lit_frames.size());
+    if (std::isnan(stripe)) return;
+    if (width < 1e-3f) {
+      narrow_ = true;
+      masks_[count_++] = lit_frames[std::clamp(static_cast<int>(stripe), 0, stripes - 1)];
+      return;
+    }
+    const float lo = stripe - 0.5f * width, hi = stripe + 0.5f * width;
+    for (int k = static_cast<int>(std::floor(lo)); k <= static_cast<int>(std::floor(hi)); ++k)
+      if (k >= 0 && k < stripes) {
+        if (count_ == kMaxStripes) throw std::logic_error("PixelCoverage: footprint too wide");
+        masks_[count_] = lit_frames[k];
+        overlaps_[count_++] = std::min(hi, k + 1.f) - std::max(lo, static_cast<float>(k));
+      }
+  }
+  float operator()(int frame) const {
+    if (narrow_) return static_cast<float>((masks_[0] >> frame) & 1);
+    float coverage = 0;
+    for (int i = 0; i < count_; ++i)
+      if ((masks_[i] >> frame) & 1) coverage += overlaps_[i];
+    return count_ == 0 ? coverage : coverage / width_;
+  }
+
+ private:
+  static constexpr int kMaxStripes = static_cast<int>(kMaxFootprint) + 2;
+  float width_;
+  bool narrow_ = false;
+  int count_ = 0;
+  uint32_t masks_[kMaxStripes];
+  float overlaps_[kMaxStripes];
+};
 
 // The camera's optics: a Gaussian blur of sensor.blur_sigma pixels, in place.
 void applyOptics(const SensorModel& sensor, cv::Mat& image) {
@@ -122,23 +150,55 @@ void addNoise(const cv::Mat& image, const SensorModel& sensor, const std::vector
   for (int v = 0; v < image.rows; ++v) {
     const float* in = image.ptr<float>(v);
     uint8_t* o = out.ptr<uint8_t>(v);
-    for (int i = 0; i < values; ++i)
+    int i = 0;
+#if CV_SIMD128
+    // Same arithmetic as the scalar tail (no fused multiply-add, round to nearest even,
+    // saturate), 16 values at a time over runs where the table does not wrap.
+    const cv::v_float32x4 scale = cv::v_setall_f32(sigma);
+    while (values - i >= 16) {
+      const size_t start = offset & (kNoiseTableSize - 1);
+      const int run = static_cast<int>(std::min<size_t>(values - i, kNoiseTableSize - start)) & ~15;
+      if (run == 0) break;
+      const float* n = noise.data() + start;
+      for (int j = 0; j < run; j += 16) {
+        cv::v_int32x4 q[4];
+        for (int k = 0; k < 4; ++k)
+          q[k] = cv::v_round(cv::v_load(in + i + j + 4 * k) + scale * cv::v_load(n + j + 4 * k));
+        cv::v_store(o + i + j, cv::v_pack_u(cv::v_pack(q[0], q[1]), cv::v_pack(q[2], q[3])));
+      }
+      i += run;
+      offset += run;
+    }
+#endif
+    for (; i < values; ++i)
       o[i] = cv::saturate_cast<uint8_t>(in[i] + sigma * noise[offset++ & (kNoiseTableSize - 1)]);
   }
 }
 
 }  // namespace
 
-SweptLaserProjector::Plane SweptLaserProjector::planeAtAngle(double angle) const {
+SweptLaserProjector::MirrorFrame SweptLaserProjector::mirrorFrame() const {
   const Eigen::Vector3d axis = mirror_axis.normalized();
   const Eigen::Vector3d up(0, -1, 0);
-  const Eigen::Vector3d e1 = (up - axis.dot(up) * axis).normalized();
-  const Eigen::Vector3d e2 = e1.cross(axis);
-  const Eigen::Vector3d mirror_normal = std::cos(angle) * e1 + std::sin(angle) * e2;
-  const Eigen::Vector3d d = laser_direction.normalized();
+  MirrorFrame frame;
+  frame.e1 = (up - axis.dot(up) * axis).normalized();
+  frame.e2 = frame.e1.cross(axis);
+  frame.laser = laser_direction.normalized();
+  frame.laser_from_axis = laser_origin - mirror_axis_point;
+  return frame;
+}
+
+SweptLaserProjector::Plane SweptLaserProjector::planeAtAngle(double angle) const {
+  return planeAtAngle(angle, mirrorFrame());
+}
+
+SweptLaserProjector::Plane SweptLaserProjector::planeAtAngle(double angle,
+                                                             const MirrorFrame& frame) const {
+  const Eigen::Vector3d mirror_normal = std::cos(angle) * frame.e1 + std::sin(angle) * frame.e2;
+  const Eigen::Vector3d& d = frame.laser;
   // The laser meets the mirror face n . (x - axis_point) = offset: this point moves with angle.
   const double t =
-      (mirror_offset - mirror_normal.dot(laser_origin - mirror_axis_point)) / mirror_normal.dot(d);
+      (mirror_offset - mirror_normal.dot(frame.laser_from_axis)) / mirror_normal.dot(d);
   Plane plane;
   plane.source = laser_origin + t * d;
   plane.central = d - 2 * d.dot(mirror_normal) * mirror_normal;
@@ -174,11 +234,14 @@ VirtualPair::VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> 
   const int stripes = layout_.stripeCount();
   sweep_step_ = 1.0 / kSweepSamplesPerStripe;
   const SweptLaserProjector& projector = config_.projector;
+  mirror_frame_ = projector.mirrorFrame();
+  tan_fan_half_angle_ = std::tan(projector.fan_half_angle);
   for (int k = 0; k <= stripes * kSweepSamplesPerStripe; ++k) {
     const double fraction = k * sweep_step_ / stripes;
     sweep_.push_back(projector.planeAtAngle(
         projector.first_mirror_angle +
-        fraction * (projector.last_mirror_angle - projector.first_mirror_angle)));
+            fraction * (projector.last_mirror_angle - projector.first_mirror_angle),
+        mirror_frame_));
   }
   if (!with_camera) return;
   std::mt19937 generator(config_.sensor.seed);
@@ -210,13 +273,13 @@ double VirtualPair::trueStripe(const Eigen::Vector3d& point,
   for (int iteration = 0; iteration < 2; ++iteration) {
     *plane = projector.planeAtAngle(
         projector.first_mirror_angle +
-        s / stripes * (projector.last_mirror_angle - projector.first_mirror_angle));
+            s / stripes * (projector.last_mirror_angle - projector.first_mirror_angle),
+        mirror_frame_);
     s -= (plane->normal.dot(point) + plane->offset) / slope;
   }
   const Eigen::Vector3d to_point = point - plane->source;
   const double along = to_point.dot(plane->central);
-  if (!(along > 0) ||
-      std::abs(to_point.dot(plane->spread)) > along * std::tan(projector.fan_half_angle))
+  if (!(along > 0) || std::abs(to_point.dot(plane->spread)) > along * tan_fan_half_angle_)
     return kNaN;  // outside the laser fan
   return s;
 }
@@ -337,26 +400,31 @@ std::vector<float> VirtualPair::stripeFootprints(const std::vector<SurfaceSample
   return footprint;
 }
 
-void VirtualPair::shadeFrame(const std::vector<uint8_t>& lit,
-                             const std::vector<SurfaceSample>& samples,
-                             const std::vector<float>& footprint,
-                             const std::vector<std::vector<ForeignLight>>& foreign,
-                             cv::Mat1f& image) const {
-  const int rows = image.rows, cols = image.cols, stripes = layout_.stripeCount();
-  for (int v = 0; v < rows; ++v) {
-    float* out = image.ptr<float>(v);
+void VirtualPair::shadeFrames(const std::vector<uint32_t>& lit_frames,
+                              const std::vector<SurfaceSample>& samples,
+                              const std::vector<float>& footprint,
+                              const std::vector<std::vector<ForeignLight>>& foreign, int row_begin,
+                              int row_end, std::vector<cv::Mat1f>& images) const {
+  const int cols = images[0].cols, frames = static_cast<int>(images.size());
+  const int stripes = static_cast<int>(lit_frames.size());
+  std::vector<float*> out(frames);
+  for (int v = row_begin; v < row_end; ++v) {
+    for (int f = 0; f < frames; ++f) out[f] = images[f].ptr<float>(v);
     const ForeignLight* light = foreign.empty() ? nullptr : foreign[v].data();
     const ForeignLight* lights_end = foreign.empty() ? nullptr : light + foreign[v].size();
     for (int u = 0; u < cols; ++u) {
       const size_t index = static_cast<size_t>(v) * cols + u;
       const SurfaceSample& sample = samples[index];
-      const float coverage = std::isnan(sample.stripe)
-                                 ? 0.f
-                                 : litCoverage(sample.stripe, footprint[index], lit, stripes);
-      out[u] = sample.ambient_level + sample.projector_level * coverage;
+      const PixelCoverage coverage(sample.stripe, footprint[index], lit_frames);
+      for (int f = 0; f < frames; ++f)
+        out[f][u] = sample.ambient_level + sample.projector_level * coverage(f);
       // Other pairs' stripes, point-sampled (they only need to corrupt, not to decode).
-      for (; light != lights_end && light->u == u; ++light)
-        out[u] += light->level * lit[std::clamp(static_cast<int>(light->stripe), 0, stripes - 1)];
+      for (; light != lights_end && light->u == u; ++light) {
+        const uint32_t lit =
+            lit_frames[std::clamp(static_cast<int>(light->stripe), 0, stripes - 1)];
+        for (int f = 0; f < frames; ++f)
+          out[f][u] += light->level * static_cast<float>((lit >> f) & 1);
+      }
     }
   }
 }
@@ -370,22 +438,32 @@ RenderedPatternSet VirtualPair::render(
   const int rows = config_.camera.height, cols = config_.camera.width;
   RenderedPatternSet result;
   // What each pixel sees (shared by all frames), and the other pairs' light on it.
-  std::vector<SurfaceSample> samples(static_cast<size_t>(rows) * cols);
+  // Per-render scratch is kept per calling thread: fresh pages for tens of MB per render cost
+  // more than the shading itself. (Named by references: the parallel loops below run on other
+  // threads, where a thread_local name would mean their own copy.)
+  thread_local std::vector<SurfaceSample> samples_scratch;
+  thread_local std::vector<cv::Mat1f> images_scratch;
+  std::vector<SurfaceSample>& samples = samples_scratch;
+  std::vector<cv::Mat1f>& images = images_scratch;
+  samples.assign(static_cast<size_t>(rows) * cols, SurfaceSample{});
   std::vector<std::vector<ForeignLight>> foreign(also_projecting.empty() ? 0 : rows);
   traceSurfaces(also_projecting, result.truth, samples, foreign);
   // Stripe footprint of each pixel: how much of the coordinate its area spans (antialiasing
   // keeps the subpixel position of stripe edges in the image, as a real sensor does).
   const std::vector<float> footprint = stripeFootprints(samples, rows, cols);
-  const std::vector<std::vector<uint8_t>> lights = litStripes(layout_);
+  const std::vector<uint32_t> lit_frames = framesLighting(layout_);
 
   const int frames = layout_.frameCount();
+  images.resize(frames);
+  for (cv::Mat1f& image : images) image.create(rows, cols);
+  cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& range) {
+    shadeFrames(lit_frames, samples, footprint, foreign, range.start, range.end, images);
+  });
   result.frames.resize(frames);
   cv::parallel_for_(cv::Range(0, frames), [&](const cv::Range& range) {
-    cv::Mat1f image(rows, cols);
     for (int f = range.start; f < range.end; ++f) {
-      shadeFrame(lights[f], samples, footprint, foreign, image);
-      applyOptics(sensor, image);
-      addNoise(image, sensor, noise_, scan_id, static_cast<uint64_t>(f) + 1, result.frames[f]);
+      applyOptics(sensor, images[f]);
+      addNoise(images[f], sensor, noise_, scan_id, static_cast<uint64_t>(f) + 1, result.frames[f]);
     }
   });
 

@@ -41,6 +41,14 @@ struct SweptLaserProjector {
   };
   // The light plane at mirror angle `angle`.
   Plane planeAtAngle(double angle) const;
+  // planeAtAngle's angle-independent part, for callers that evaluate many angles.
+  struct MirrorFrame {
+    Eigen::Vector3d e1, e2;           // mirror normal = cos(angle) e1 + sin(angle) e2
+    Eigen::Vector3d laser;            // unit laser direction
+    Eigen::Vector3d laser_from_axis;  // laser_origin - mirror_axis_point
+  };
+  MirrorFrame mirrorFrame() const;
+  Plane planeAtAngle(double angle, const MirrorFrame& frame) const;
 };
 
 // Optics and noise. Defaults are the suite's documented defaults used by every test unless it
@@ -125,10 +133,12 @@ class VirtualPair {
                      std::vector<std::vector<ForeignLight>>& foreign) const;
   static std::vector<float> stripeFootprints(const std::vector<SurfaceSample>& samples, int rows,
                                              int cols);
-  // One frame's image before optics and noise: lit[k] whether the frame lights stripe k.
-  void shadeFrame(const std::vector<uint8_t>& lit, const std::vector<SurfaceSample>& samples,
-                  const std::vector<float>& footprint,
-                  const std::vector<std::vector<ForeignLight>>& foreign, cv::Mat1f& image) const;
+  // Every frame's image before optics and noise, rows [row_begin, row_end): lit_frames[k] has
+  // bit f set where frame f lights stripe k.
+  void shadeFrames(const std::vector<uint32_t>& lit_frames,
+                   const std::vector<SurfaceSample>& samples, const std::vector<float>& footprint,
+                   const std::vector<std::vector<ForeignLight>>& foreign, int row_begin,
+                   int row_end, std::vector<cv::Mat1f>& images) const;
 
   VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> scene, bool with_camera);
 
@@ -138,7 +148,9 @@ class VirtualPair {
   std::vector<Eigen::Vector3f> camera_rays_;       // unit rays per pixel (camera frame)
   std::vector<SweptLaserProjector::Plane> sweep_;  // planes at fine steps of the coordinate
   double sweep_step_;                              // stripe coordinate between sweep_ entries
-  std::vector<float> noise_;                       // unit Gaussian samples
+  SweptLaserProjector::MirrorFrame mirror_frame_;
+  double tan_fan_half_angle_;
+  std::vector<float> noise_;  // unit Gaussian samples
 };
 
 }  // namespace body_scan_driver::sim
