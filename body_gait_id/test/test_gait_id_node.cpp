@@ -28,6 +28,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -87,6 +88,7 @@ class NodeProcess {
   }
   bool alive() const { return pid_ > 0 && kill(pid_, 0) == 0; }
   void stop() {
+    clients_.clear();
     if (pid_ <= 0) return;
     kill(pid_, SIGINT);
     int status = 0;
@@ -110,15 +112,24 @@ class NodeProcess {
       if (text[--start] == '\n') ++seen;
     return text.substr(start);
   }
+  // One persistent connection per service: a non-persistent roscpp call can fail when the
+  // server's close of the connection is seen before its response is read (ros_comm #1976).
   template <typename Service>
   Service call(const std::string& service, Service srv = {}) const {
-    EXPECT_TRUE(ros::service::call("/" + name_ + "/" + service, srv)) << service;
+    auto client = clients_.find(service);
+    if (client == clients_.end())
+      client = clients_
+                   .emplace(service, ros::NodeHandle().serviceClient<Service>(
+                                         "/" + name_ + "/" + service, /*persistent=*/true))
+                   .first;
+    EXPECT_TRUE(client->second.call(srv)) << service;
     return srv;
   }
 
  private:
   std::string name_, log_;
   pid_t pid_ = -1;
+  mutable std::map<std::string, ros::ServiceClient> clients_;
 };
 
 struct Answer {
