@@ -18,8 +18,12 @@
 #                headless simulated scanner; latency p50/p99, every node's RSS, missing scans
 #                (report build/soak/soak.yaml); not part of `make test` (about 25 min)
 #   make format  clang-format -i every C++ file of the packages
-#   make fuzz    build the BVH reader's libFuzzer target with clang (build/fuzz/fuzz_bvh) and
-#                run it FUZZ_SECONDS (default 60) on its seed corpus; findings in build/fuzz/
+#   make fuzz    build every libFuzzer target (fuzz_* of the packages) with clang, ASan and
+#                UBSan in build/sanitize and run each FUZZ_SECONDS (default 60) from its checked-
+#                in corpus; findings in build/fuzz/<target>/
+#   make sanitize  the unit tests and rostests built with clang, ASan and UBSan in build/sanitize
+#                (JUnit into build/sanitize/test_results), then the multi-threaded parts' tests
+#                with TSan in build/tsan; reports: build/sanitize/reports/
 #   make clean   remove build/
 
 SHELL := /bin/bash
@@ -48,11 +52,13 @@ DEB_PACKAGES := \
 	python3-rosbag libdiagnostic-updater-dev libdynamic-reconfigure-config-init-mutex-dev \
 	python3-dynamic-reconfigure \
 	libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libceres-dev libpcl-dev \
-	libsqlite3-dev libcli11-dev libusb-1.0-0-dev libuvc-dev libx11-dev \
+	libsqlite3-dev libcli11-dev libusb-1.0-0-dev libuvc-dev libx11-dev libembree-dev \
 	libgtest-dev libbenchmark-dev libtinyxml2-dev xvfb opencv-doc
 
 # Only `make format` needs these.
 FORMAT_PACKAGES := clang-format
+# Only `make fuzz` and `make sanitize` need these (clang, libFuzzer and the sanitizer runtimes).
+SANITIZER_PACKAGES := clang-14 libclang-rt-14-dev
 
 # Catkin packages = top-level directories with a package.xml.
 PACKAGES := $(patsubst %/package.xml,%,$(wildcard */package.xml))
@@ -74,7 +80,7 @@ define install_missing
 	fi
 endef
 
-.PHONY: deps build test demo bench format clean fuzz soak
+.PHONY: deps build test demo bench format clean fuzz soak sanitize sanitize-build tsan
 
 # deps: install the Debian packages in DEB_PACKAGES that are missing (idempotent).
 deps:
@@ -152,22 +158,81 @@ format:
 	@files=$$(find $(PACKAGES) -type f \( -name '*.cpp' -o -name '*.h' -o -name '*.hpp' \)); \
 	if [ -n "$$files" ]; then clang-format -i --style=file $$files; fi
 
-# fuzz: the BVH reader (body_scan_driver/src/sim/bvh.cpp) under libFuzzer with AddressSanitizer
-# and UBSan, outside catkin (clang only). The corpus grows in build/fuzz/corpus (seeded from
-# body_scan_driver/fuzz/corpus and the CMU walks of body_scan_driver/data/cmu_walks); crashes
-# are written to build/fuzz/crash-*. test_bvh runs the same entry point over the seeds in CI.
+# Sanitizer builds: clang with AddressSanitizer + UndefinedBehaviorSanitizer (any UB aborts),
+# plus libFuzzer's coverage instrumentation, so the fuzz targets and the sanitized tests share
+# one build (build/sanitize, configured with BODY_SCAN_FUZZ=ON; benchmarks off). The ASan
+# runtime is shared (-shared-libasan) and preloaded into every process of a run, because the
+# nodelet manager and python (rostest) are not instrumented but load our libraries.
+SAN_DIR   := $(BUILD_DIR)/sanitize
+TSAN_DIR  := $(BUILD_DIR)/tsan
+CLANG_CC  ?= clang-14
+CLANG_CXX ?= clang++-14
+SAN_FLAGS := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined \
+	-fno-sanitize-recover=undefined -fsanitize=fuzzer-no-link -shared-libasan
+ASAN_RT    = $(shell $(CLANG_CXX) -print-file-name=libclang_rt.asan-x86_64.so)
+# detect_leaks=0: ROS's and python's own allocations at exit are not ours to chase.
+SAN_ENV    = LD_PRELOAD=$(ASAN_RT) \
+	ASAN_OPTIONS=detect_leaks=0:verify_asan_link_order=0:abort_on_error=1:log_path=$(SAN_DIR)/reports/asan \
+	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:log_path=$(SAN_DIR)/reports/ubsan
+# configure (+ build $(1), a list of targets) of a sanitizer build dir $(2) with flags $(3)
+define san_build
+	@mkdir -p $(2)/devel/lib/python3/dist-packages && touch $(2)/CATKIN_IGNORE
+	cmake -S . -B $(2) -DCMAKE_BUILD_TYPE=None -DCMAKE_C_COMPILER=$(CLANG_CC) \
+	  -DCMAKE_CXX_COMPILER=$(CLANG_CXX) -DCMAKE_C_FLAGS="$(3)" -DCMAKE_CXX_FLAGS="$(3)" \
+	  -DCMAKE_EXE_LINKER_FLAGS="$(3)" -DCMAKE_SHARED_LINKER_FLAGS="$(3)" \
+	  -DPYTHON_EXECUTABLE=$(PY) -DCATKIN_DEVEL_PREFIX=$(2)/devel -DCATKIN_ENABLE_TESTING=ON \
+	  -DCMAKE_DISABLE_FIND_PACKAGE_benchmark=ON $(4) >$(2)/configure.log
+	cmake --build $(2) -j$(JOBS) $(if $(1),--target $(1))
+endef
+
+# fuzz: every fuzz_* target, each FUZZ_SECONDS from its corpus (<pkg>/fuzz/corpus/<name>, copied
+# to build/fuzz/<name>/corpus, where the run's new inputs go), at most FUZZ_MAX_LEN bytes.
+# Prints each target's executions and crashes; exits non-zero on any crash.
 FUZZ_SECONDS ?= 60
-FUZZ_CXX ?= clang++
+FUZZ_MAX_LEN ?= 200000
 fuzz:
-	@mkdir -p $(BUILD_DIR)/fuzz/corpus
-	$(FUZZ_CXX) -std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-	  -Ibody_scan_driver/include -I/usr/include/eigen3 \
-	  body_scan_driver/fuzz/fuzz_bvh.cpp body_scan_driver/src/sim/bvh.cpp \
-	  -o $(BUILD_DIR)/fuzz/fuzz_bvh
-	cp -n body_scan_driver/fuzz/corpus/* $(BUILD_DIR)/fuzz/corpus/
-	cp -n body_scan_driver/data/cmu_walks/*.bvh $(BUILD_DIR)/fuzz/corpus/
-	cd $(BUILD_DIR)/fuzz && ./fuzz_bvh -max_total_time=$(FUZZ_SECONDS) -max_len=200000 \
-	  -rss_limit_mb=2048 -print_final_stats=1 corpus
+	$(call install_missing,$(SANITIZER_PACKAGES))
+	$(call san_build,fuzz_targets,$(SAN_DIR),$(SAN_FLAGS),-DBODY_SCAN_FUZZ=ON)
+	@mkdir -p $(SAN_DIR)/reports; status=0; \
+	for exe in $(SAN_DIR)/devel/lib/*/fuzz_*; do \
+	  name=$$(basename $$exe); name=$${name#fuzz_}; pkg=$$(basename $$(dirname $$exe)); \
+	  out=$(BUILD_DIR)/fuzz/$$name; mkdir -p $$out/corpus; \
+	  cp -n $$pkg/fuzz/corpus/$$name/* $$out/corpus/ 2>/dev/null || true; \
+	  (cd $$out && env $(SAN_ENV) ASAN_OPTIONS=detect_leaks=0:verify_asan_link_order=0 \
+	    $$exe -max_total_time=$(FUZZ_SECONDS) -max_len=$(FUZZ_MAX_LEN) -rss_limit_mb=2048 \
+	    -timeout=20 -print_final_stats=1 corpus >$$out/log.txt 2>&1) || status=1; \
+	  runs=$$(sed -n 's/^stat::number_of_executed_units: *//p' $$out/log.txt); \
+	  crashes=$$(ls $$out | grep -c -E '^(crash|leak|timeout|oom)-' || true); \
+	  printf '%-22s %10s executions  %s crashes\n' $$name "$${runs:-?}" $$crashes; \
+	done; exit $$status
+
+# sanitize: the whole suite's tests under ASan + UBSan (a rostest's nodes too), then TSan.
+sanitize:
+	$(call install_missing,$(SANITIZER_PACKAGES))
+	$(call san_build,all tests,$(SAN_DIR),$(SAN_FLAGS),-DBODY_SCAN_FUZZ=ON)
+	@rm -rf $(SAN_DIR)/test_results $(SAN_DIR)/reports; mkdir -p $(SAN_DIR)/reports
+	@port=$$($(PY) -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'); \
+	export ROS_MASTER_URI=http://localhost:$$port; \
+	export ROS_HOME=$(SAN_DIR)/ros_home ROS_LOG_DIR=$(SAN_DIR)/ros_home/log; \
+	mkdir -p "$$ROS_LOG_DIR"; \
+	env $(SAN_ENV) $(MAKE) -C $(SAN_DIR) run_tests || true; \
+	$(PY) scripts/test_summary.py $(SAN_DIR)/test_results --write $(SAN_DIR)/test_summary.txt; \
+	reports=$$(ls $(SAN_DIR)/reports | wc -l); echo "== ASan/UBSan reports: $$reports (build/sanitize/reports)"
+	@$(MAKE) tsan
+
+# tsan: the multi-threaded parts' tests (merge, the coordinator, the hardware state machine,
+# the gallery's concurrent writers) built with ThreadSanitizer.
+TSAN_TESTS := test_cloud_merge test_scan_assembler test_pattern_sequencer test_pair_connection \
+	test_usb_pair_device test_gallery_database
+tsan:
+	$(call san_build,$(TSAN_TESTS),$(TSAN_DIR),-O1 -g -fsanitize=thread)
+	@mkdir -p $(TSAN_DIR)/reports; status=0; \
+	for t in $(TSAN_TESTS); do \
+	  exe=$$(find $(TSAN_DIR)/devel/lib -name $$t -type f); \
+	  TSAN_OPTIONS=halt_on_error=1:log_path=$(TSAN_DIR)/reports/$$t $$exe >$(TSAN_DIR)/$$t.log 2>&1 \
+	    && echo "tsan $$t: $$(grep -o '[0-9]* tests\? from .* ran' $(TSAN_DIR)/$$t.log | tail -1) ok" \
+	    || { echo "tsan $$t: FAILED (build/tsan/$$t.log)"; status=1; }; \
+	done; echo "== TSan reports: $$(ls $(TSAN_DIR)/reports | wc -l) (build/tsan/reports)"; exit $$status
 
 # clean: remove everything built (build/, including devel space, test results, benchmarks).
 clean:

@@ -33,6 +33,7 @@ ROSDEP_KEYS = {
     "eigen": ["libeigen3-dev"],
     "gtest": ["libgtest-dev"],
     "libceres-dev": ["libceres-dev"],
+    "libembree-dev": ["libembree-dev"],
     "libopencv-contrib-dev": ["libopencv-contrib-dev"],
     "libopencv-dev": ["libopencv-dev"],
     "libpcl-all-dev": ["libpcl-dev"],

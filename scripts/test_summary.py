@@ -20,7 +20,8 @@ Special cases:
     it. A wrapper's passes are therefore not counted (they would double-count), while its
     failures, errors and skips are.
 
-Prints one `FAILED: suite.case (file)` line per failure, then as the very last line
+Prints one `FAILED: suite.case (file)` line per failure, followed by the first lines of its
+failure message (indented), then as the very last line
 `N passed, N failed, N skipped`. With --write FILE the
 last line is also written to FILE. Exit status 1 if anything failed or nothing ran.
 """
@@ -94,7 +95,20 @@ def summarise(results_dir):
                     what = "%s.%s" % (case.get("classname") or root.get("name") or "?",
                                       case.get("name", "?"))
                 failures.append("FAILED: %s (%s)" % (what, rel))
+                failures += failure_detail(case)
     return counts, failures
+
+
+def failure_detail(case, max_lines=12):
+    """The first lines of a failed case's message, indented, so a CI log shows why."""
+    lines = []
+    for element in case.findall("failure") + case.findall("error"):
+        text = element.get("message") or element.text or ""
+        lines += [line for line in text.splitlines() if line.strip()]
+    shown = ["    " + line for line in lines[:max_lines]]
+    if len(lines) > max_lines:
+        shown.append("    ... (%d more lines)" % (len(lines) - max_lines))
+    return shown
 
 
 def main(argv=None):

@@ -1,6 +1,8 @@
 // SQLite gallery database (plain C API); see gallery_database.h for the file's guarantees.
 #include <body_gait_id/gallery_database.h>
+#include <fcntl.h>
 #include <sqlite3.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -241,6 +243,11 @@ GalleryDatabase::GalleryDatabase(const std::string& path, std::chrono::milliseco
     : path_(path), busy_timeout_(busy_timeout) {
   if (path.empty())
     throw GalleryError("gallery database: empty path; give a file name (e.g. gait_gallery.db)");
+  // Biometric data: a new gallery is readable by its owner only. SQLite would create it (and
+  // its -wal and -shm files, which copy the database's mode) with 0644; an empty file is a
+  // valid empty database, so it is made here first with 0600.
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd >= 0) ::close(fd);
   const int rc =
       sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr);
   try {
@@ -356,14 +363,15 @@ std::int64_t GalleryDatabase::enroll(const SubjectInfo& info, const std::vector<
   if (info.name.empty())
     throw GalleryError("gallery database '" + path_ + "': enrolment without a name: give one");
   if (poses.empty())
-    throw GalleryError("gallery database '" + path_ + "': enrolment of '" + info.name +
-                       "' without training poses: give the 4 fitted representative poses");
+    throw GalleryError(
+        "gallery database '" + path_ +
+        "': enrolment without training poses: give the 4 fitted representative poses");
   // A NaN would poison the running sums of every later identification.
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const body_gait_model::BodyModel& m = poses[i].model;
     if (!m.p.allFinite() || !m.q.allFinite() || !m.r.allFinite())
-      throw GalleryError("gallery database '" + path_ + "': enrolment of '" + info.name +
-                         "' refused: pose " + std::to_string(i + 1) +
+      throw GalleryError("gallery database '" + path_ + "': enrolment refused: pose " +
+                         std::to_string(i + 1) +
                          " has non-finite values (NaN or inf); fit that scan again");
   }
   const auto thrower = [this](int code, const std::string& what) { fail(code, what); };

@@ -1,7 +1,9 @@
 // gait_id_node end to end: 6 simulated people enrolled through ~enroll, 24 probes (another walk
 // of each) identified through ~identify and the /body_gait/model topic; the node is stopped and
 // a new one started on the same gallery file gives the same answers; a corrupt gallery file is
-// reported in the log and in every service reply while the node keeps running.
+// reported in the log and in every service reply while the node keeps running; a walk's 4 models
+// on the topic give 4 scan answers and one walk answer (an enrolled person's accepted, a
+// stranger's rejected).
 #include <body_gait_model/eval/gait_subjects.h>
 #include <body_gait_model/eval/skeleton_model.h>
 #include <body_gait_model/ros/body_model_msg.h>
@@ -21,10 +23,12 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -59,23 +63,24 @@ class NodeProcess {
     std::vector<std::string> args{GAIT_ID_NODE, "__name:=" + name, "_database:=" + database,
                                   "_accept_threshold:=3.0"};
     args.insert(args.end(), params.begin(), params.end());
+    // Everything the child needs is made before fork: this process runs ROS threads, and a
+    // child that allocates can deadlock on a malloc lock another thread held at the fork.
+    std::vector<char*> argv;
+    for (std::string& arg : args) argv.push_back(arg.data());
+    argv.push_back(nullptr);
     pid_ = fork();
     if (pid_ == 0) {
       const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       dup2(fd, 1);
       dup2(fd, 2);
-      std::vector<char*> argv;
-      for (std::string& arg : args) argv.push_back(arg.data());
-      argv.push_back(nullptr);
       execv(GAIT_ID_NODE, argv.data());
       _exit(127);
     }
   }
   ~NodeProcess() {
     stop();
-    if (::testing::Test::HasFailure())  // the node's side of a failure
-      std::printf("---- %s output ----\n%s---- end of %s ----\n", name_.c_str(), log().c_str(),
-                  name_.c_str());
+    if (::testing::Test::HasFailure())  // the node's side of a failure, in the test's result
+      ADD_FAILURE() << "---- " << name_ << " output (last lines) ----\n" << logTail(8);
   }
   bool waitForServices() const {
     return ros::service::waitForService("/" + name_ + "/list", ros::Duration(20));
@@ -97,6 +102,13 @@ class NodeProcess {
     std::stringstream text;
     text << in.rdbuf();
     return text.str();
+  }
+  std::string logTail(std::size_t lines) const {
+    const std::string text = log();
+    std::size_t start = text.size();
+    for (std::size_t seen = 0; start > 0 && seen <= lines;)
+      if (text[--start] == '\n') ++seen;
+    return text.substr(start);
   }
   template <typename Service>
   Service call(const std::string& service, Service srv = {}) const {
@@ -225,7 +237,27 @@ TEST_F(GaitIdNodeTest, EnrolRestartIdentifySameAnswers) {
     EXPECT_EQ(identities[0].name, people_[person].name);
     EXPECT_DOUBLE_EQ(identities[0].score, before[9].score);
     EXPECT_EQ(identities[0].accepted, before[9].score <= 3.0);
+
+    // A refused enrolment names the bad field (and not the person) in the reply.
+    body_scan_msgs::EnrollSubject refused = enrolment(0);
+    refused.request.poses[2].q[3] = std::nan("");
+    const std::string message = node.call("enroll", refused).response.message;
+    EXPECT_NE(message.find("BodyModel.q[3] is not finite"), std::string::npos) << message;
   }  // the first node stops here
+
+  // Biometric hygiene: names stay out of the node's log above DEBUG (its whole output at the
+  // default level, after enrolments, identifications and a refusal), and the gallery file it
+  // created is its owner's only.
+  {
+    std::ifstream in(dir_ / "first.log");
+    std::stringstream log;
+    log << in.rdbuf();
+    ASSERT_NE(log.str().find("enrolled subject"), std::string::npos) << log.str();
+    for (const auto& person : people_)
+      EXPECT_EQ(log.str().find(person.name), std::string::npos) << person.name << " logged";
+    EXPECT_EQ(fs::status(database).permissions() & fs::perms::all,
+              fs::perms::owner_read | fs::perms::owner_write);
+  }
 
   NodeProcess node("gait_id_second", database, (dir_ / "second.log").string());
   ASSERT_TRUE(node.waitForServices()) << node.log();
@@ -304,6 +336,80 @@ TEST_F(GaitIdNodeTest, ShapeFeaturesAndNoiseWeightsThroughParameters) {
               4 * kPeople, plain_correct);
   EXPECT_GT(shaped_correct, plain_correct);
   EXPECT_GE(shaped_correct, 4 * kPeople - 1);
+}
+
+TEST_F(GaitIdNodeTest, AWalksFourModelsAreIdentifiedAsOneWalk) {
+  const std::string database = (dir_ / "walks.db").string();
+  // The recognition.launch features (shape, median body, noise weights) and the default walk
+  // threshold; people 0-2 enrolled, person 4 a stranger.
+  NodeProcess node("gait_id_walks", database, (dir_ / "walks.log").string(),
+                   {"_feature_set:=dynamic_static_shape", "_walk_body:=median",
+                    "_feature_noise:=" + featureNoiseFile()});
+  ASSERT_TRUE(node.waitForServices()) << node.log();
+  std::vector<std::int64_t> ids;
+  for (int person = 0; person < 3; ++person) {
+    const auto srv = node.call("enroll", enrolment(person));
+    ASSERT_TRUE(srv.response.success) << srv.response.message;
+    ids.push_back(srv.response.subject_id);
+  }
+  ros::NodeHandle nh;
+  std::vector<body_scan_msgs::Identity> identities;
+  ros::Subscriber sub = nh.subscribe<body_scan_msgs::Identity>(
+      "/body_gait/identity", 20,
+      [&](const body_scan_msgs::Identity::ConstPtr& msg) { identities.push_back(*msg); });
+  ros::Publisher pub = nh.advertise<body_scan_msgs::BodyModel>("/body_gait/model", 8);
+  for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10);
+       ros::WallTime::now() < end && (pub.getNumSubscribers() == 0 || sub.getNumPublishers() == 0);
+       ros::WallDuration(0.02).sleep()) {
+  }
+  const auto walkAnswer = [&](int person, std::uint32_t walk_id) {
+    for (int index = 1; index <= 4; ++index) {
+      body_scan_msgs::BodyModel model =
+          modelMsg(body_gait_model::eval::walkingSubject(people_[person], index, 1));
+      model.header.stamp = ros::Time(100 * walk_id + index, 0);
+      model.walk_id = walk_id;
+      model.pose_index = index;
+      model.scan_id = 10 * walk_id + index;
+      pub.publish(model);
+    }
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(15);
+    while (ros::WallTime::now() < deadline) {
+      ros::spinOnce();
+      for (const auto& identity : identities)
+        if (identity.kind == body_scan_msgs::Identity::WALK && identity.walk_id == walk_id)
+          return std::optional<body_scan_msgs::Identity>(identity);
+      ros::WallDuration(0.02).sleep();
+    }
+    return std::optional<body_scan_msgs::Identity>();
+  };
+  const auto known = walkAnswer(1, 21);
+  ASSERT_TRUE(known) << "no walk identity for walk 21";
+  EXPECT_EQ(known->subject_id, ids[1]);
+  EXPECT_EQ(known->name, people_[1].name);
+  EXPECT_TRUE(known->accepted) << "score " << known->score;
+  EXPECT_DOUBLE_EQ(known->threshold, 15.5);
+  ASSERT_EQ(known->ranked_subject_ids.size(), 3u);  // rank-5 list of a 3-person gallery
+  EXPECT_EQ(known->ranked_subject_ids[0], ids[1]);
+  EXPECT_DOUBLE_EQ(known->ranked_scores[0], known->score);
+  EXPECT_TRUE(std::is_sorted(known->ranked_scores.begin(), known->ranked_scores.end()));
+  // Each of the walk's models was also answered as a single scan, with its walk and pose.
+  std::vector<int> scan_poses;
+  for (const auto& identity : identities)
+    if (identity.kind == body_scan_msgs::Identity::SCAN && identity.walk_id == 21) {
+      scan_poses.push_back(identity.pose_index);
+      EXPECT_EQ(identity.scan_id, 210u + identity.pose_index);
+      EXPECT_EQ(identity.ranked_subject_ids.size(), 3u);
+    }
+  EXPECT_EQ(scan_poses, (std::vector<int>{1, 2, 3, 4}));
+
+  const auto stranger = walkAnswer(4, 22);
+  ASSERT_TRUE(stranger) << "no walk identity for walk 22";
+  EXPECT_FALSE(stranger->accepted) << "a stranger's walk was accepted as " << stranger->name
+                                   << " with score " << stranger->score;
+  std::printf(
+      "[ figure ] walk of an enrolled person: score %.2f (accepted); a stranger's walk: "
+      "nearest %s, score %.2f (rejected at %.1f)\n",
+      known->score, stranger->name.c_str(), stranger->score, stranger->threshold);
 }
 
 TEST_F(GaitIdNodeTest, CorruptGalleryIsReportedAndTheNodeKeepsRunning) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sqlite3.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -159,6 +160,23 @@ TEST_F(GalleryDatabaseTest, FileIsInWalModeWithSchemaVersion) {
   sqlite3_finalize(stmt);
   sqlite3_close(db);
   EXPECT_EQ(scalar("SELECT version FROM schema_version"), GalleryDatabase::kSchemaVersion);
+}
+
+// Biometric data: a new gallery and its WAL files are readable by their owner only, whatever
+// the umask.
+TEST_F(GalleryDatabaseTest, NewGalleryIsOwnerOnly) {
+  const mode_t old_umask = ::umask(0);
+  {
+    GalleryDatabase db(path_);
+    db.enroll({"Alice", "female", 30}, {}, trainingPoses(1.6, 1));
+    for (const std::string& file : {path_, path_ + "-wal", path_ + "-shm"}) {
+      ASSERT_TRUE(fs::exists(file)) << file;
+      EXPECT_EQ(fs::status(file).permissions() & fs::perms::all,
+                fs::perms::owner_read | fs::perms::owner_write)
+          << file;
+    }
+  }
+  ::umask(old_umask);
 }
 
 TEST_F(GalleryDatabaseTest, RemoveCascadesAndRefitsTheStatistics) {

@@ -226,6 +226,62 @@ LimbFit fitLimb(std::vector<Eigen::Vector3d> points, const std::vector<Eigen::Ve
   return limb;
 }
 
+// Legs bent as in walking (a swing knee flexes 60-70 deg, a heel-strike foot points its toes
+// up, a toe-off foot down): the split along the leg's principal axis mixes thigh, shank and foot
+// points. Points are told apart by their distance from the hip instead, which a bend does not
+// change: the thigh's core lies at 0.4-0.85 of the standard thigh length (Drillis & Contini:
+// 0.245 of the stature) from the hip, the shank's at 1.2 of it to 0.8 of the standard shank
+// (0.246) beyond the knee, the foot and the knee outside both. The shank line comes from its
+// core; the knee is where the two core lines meet when the leg bends clearly, else the split's
+// knee moved onto that line (straight legs: the proportion); the sole is as far along the shank
+// line as the points within the shank's radius reach (the heel: toes sticking out forward or
+// down stay out).
+void placeBentKneeAndSole(LimbFit& leg, const std::vector<Eigen::Vector3d>& points,
+                          const Eigen::Vector3d& hip, double stature,
+                          const BentKneeOptions& options) {
+  const double thigh = 0.245 * stature, shank = 0.246 * stature;
+  LineMoments thigh_core, shank_core;
+  for (const auto& p : points) {
+    const double d = (p - hip).norm();
+    if (d > 0.4 * thigh && d < 0.85 * thigh) thigh_core.add(p);
+    if (d > 1.2 * thigh && d < thigh + 0.8 * shank) shank_core.add(p);
+  }
+  if (thigh_core.count < 30 || shank_core.count < 30) return;
+  const Line thigh_line = thigh_core.fit(-Eigen::Vector3d::UnitY());
+  const Line shank_line = shank_core.fit(-Eigen::Vector3d::UnitY());
+  auto onLine = [](const Line& line, const Eigen::Vector3d& p) {
+    return Eigen::Vector3d(line.point + (p - line.point).dot(line.direction) * line.direction);
+  };
+  const double bend =
+      std::acos(std::clamp(thigh_line.direction.dot(shank_line.direction), -1.0, 1.0));
+  const double weight = std::clamp((bend - options.straight_deg * kPi / 180) /
+                                       ((options.clear_deg - options.straight_deg) * kPi / 180),
+                                   0.0, 1.0);
+  Eigen::Vector3d knee = onLine(shank_line, leg.middle_joint);
+  Eigen::Vector3d by_bend;
+  if (weight > 0 && closestApproach(thigh_line, shank_line, &by_bend) &&
+      std::abs((by_bend - hip).norm() - thigh) < 0.35 * thigh)
+    knee = weight * by_bend + (1 - weight) * knee;
+  // The shank's radius: the median distance of its core to the line.
+  std::vector<double> distances;
+  for (const auto& p : points) {
+    const double d = (p - hip).norm();
+    if (d > 1.2 * thigh && d < thigh + 0.8 * shank) distances.push_back(shank_line.distance(p));
+  }
+  const double radius = quantile(distances, 0.5);
+  std::vector<double> reach;
+  for (const auto& p : points)
+    if (shank_line.distance(p) < radius + options.sole_margin &&
+        (p - knee).dot(shank_line.direction) > 0)
+      reach.push_back((p - knee).dot(shank_line.direction));
+  if (reach.size() < 30) return;
+  leg.middle_joint = knee;
+  leg.lower = shank_line;
+  leg.distal_end = knee + quantile(reach, 0.995) * shank_line.direction;
+  leg.upper.point = hip;
+  leg.upper.direction = (knee - hip).normalized();
+}
+
 // Radius of a cross-section polygon in the direction of a point (its sector's vertex).
 double polygonRadius(const CrossSection& section, double phi, int sectors) {
   if (section.polygon.empty()) return 0;
@@ -549,7 +605,10 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
       limbs[limb] = fitLimb(
           without_foot, limb_points[limb], kKneeFraction, options.leg_split_window,
           [&](const Line&) { return hip_of_side[side]; }, true);
-      if (limbs[limb].valid) {
+      if (limbs[limb].valid && options.bent_knee.enabled) {
+        placeBentKneeAndSole(limbs[limb], limb_points[limb], hip_of_side[side], stature,
+                             options.bent_knee);
+      } else if (limbs[limb].valid) {
         // The sole: as far along the shank line as the leg's points (the foot included) reach.
         std::vector<double> reach;
         for (const auto& p : limb_points[limb])
@@ -579,7 +638,7 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
 // The body model in the world from the torso, head and limbs found (segment lengths, joint
 // angles, shape) and the joints' points.
 void assembleModel(const Line& upper_axis, const HeadFit& head, const LimbJoints& joints,
-                   BodyFit& fit) {
+                   const JointLimitSet& limits, BodyFit& fit) {
   const BodyAxes& axes = fit.axes;
   const TorsoFit& torso = fit.torso;
   const double chin = head.chin, stature = head.stature, neck_area = head.neck_area,
@@ -600,7 +659,7 @@ void assembleModel(const Line& upper_axis, const HeadFit& head, const LimbJoints
     const Eigen::Vector2d angles = jointAnglesForDirection(
         parent_rotation.transpose() * world_direction, segmentInfo(segment).points_up);
     model.setJointAngles(segment, angles[0], angles[1]);
-    model = clampToJointLimits(model);
+    model = clampToJointLimits(model, limits);
   };
   model.r[kUpperTorso] = torso.top / std::max(torso.upper_direction.y(), 0.5);
   model.r[kLowerTorso] = -torso.base / std::max(-torso.lower_direction.y(), 0.5);
@@ -671,57 +730,20 @@ void assembleModel(const Line& upper_axis, const HeadFit& head, const LimbJoints
   fit.joint_points.push_back({"head_top", axes.toWorld(upper_axis.atHeight(crown))});
 }
 
-// Refines the model on the cloud without the feet (the model has none), then ends each lower leg
-// where its sole projects onto the refined line.
-void refineWithoutFeet(const Cloud& cloud, const std::vector<Eigen::Vector3d>& model_points,
-                       const LimbJoints& joints, const FitOptions& options, BodyFit& fit) {
-  const BodyAxes& axes = fit.axes;
-  const double body_height = axes.height();
-  BodyModel& model = fit.model;
-  const auto& limbs = joints.limbs;
-  Cloud without_feet;
-  without_feet.reserve(cloud.size());
-  const double foot_top = axes.lowest + options.foot_height * body_height;
-  for (size_t i = 0; i < cloud.size(); ++i)
-    if (model_points[i].y() > foot_top) without_feet.push_back(cloud[i]);
-  fit.refinement = refineModel(model, without_feet, options.refinement);
-  // The refinement turns the shanks without the feet (the model has none) and holds their
-  // lengths, so their far ends swing away from the soles the direct fit found: end each lower
-  // leg again where the sole projects onto its refined line. Measured on 10 subjects x 4 poses:
-  // soles 34 -> 25 mm.
-  const PosedModel posed = forwardKinematics(model);
-  for (const auto& [part, segment] :
-       {std::pair{kRightLeg, kRightLowerLeg}, std::pair{kLeftLeg, kLeftLowerLeg}}) {
-    const PosedSegment& shank = posed.segments[segment];
-    const Eigen::Vector3d direction = (shank.distal - shank.proximal).normalized();
-    model.r[segment] =
-        std::max((axes.toWorld(limbs[part].distal_end) - shank.proximal).dot(direction),
-                 options.refinement.min_length);
-  }
-}
-
-// Steps 5.5.2-5.5.4 on top of the axes already in fit. Throws std::invalid_argument when the
-// cloud does not have a body's shape.
-void fitModel(const Cloud& cloud, const FitOptions& options, BodyFit& fit) {
-  const BodyAxes& axes = fit.axes;
-  std::vector<Eigen::Vector3d> model_points;
-  model_points.reserve(cloud.size());
-  for (const auto& p : cloud) model_points.push_back(axes.toModel(p));
-  fit.torso = fitTorso(model_points, axes, options.torso);
-  const TorsoFit& torso = fit.torso;
-  const Line upper_axis{torso.waist, torso.upper_direction};
-  const std::vector<Part> part =
-      segmentBody(model_points, torso, upper_axis, axes.height(), options);
-  const HeadFit head = fitHead(model_points, part, torso, axes, options.torso.sectors);
-  const LimbJoints joints = fitLimbs(model_points, part, torso, axes, head.stature, options);
-  assembleModel(upper_axis, head, joints, fit);
-  if (options.refine) refineWithoutFeet(cloud, model_points, joints, options, fit);
-}
-
-}  // namespace
-
-BodyFit fitBody(const Cloud& full_cloud, const FitOptions& options) {
+// A scan's direct fit (5.5) and what refinement needs of it.
+struct DirectFit {
   BodyFit fit;
+  bool fitted = false;  // false: no body shape found, fit holds a flagged standing template
+  std::string failure;  // why not
+  Cloud without_feet;   // the fitting cloud above the feet (the model has none): refinement's
+  Eigen::Vector3d soles[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};  // world
+};
+
+// Steps 5.5.1-5.5.4 on an even subsample of the cloud. Throws std::invalid_argument when the
+// cloud is no standing body at all (estimateBodyAxes).
+DirectFit fitDirectly(const Cloud& full_cloud, const FitOptions& options) {
+  DirectFit direct;
+  BodyFit& fit = direct.fit;
   // An even subsample (every k-th point keeps every viewpoint's share) for the fitting stages.
   Cloud subsample;
   if (options.max_fit_points > 0 && full_cloud.size() > size_t(options.max_fit_points)) {
@@ -732,17 +754,147 @@ BodyFit fitBody(const Cloud& full_cloud, const FitOptions& options) {
   const Cloud& cloud = subsample.empty() ? full_cloud : subsample;
   fit.axes = estimateBodyAxes(cloud, options.axes);  // refuses clouds that are no body at all
   try {
-    fitModel(cloud, options, fit);
-    fit.quality = evaluateFit(fit.model, full_cloud, options.quality);
+    const BodyAxes& axes = fit.axes;
+    std::vector<Eigen::Vector3d> model_points;
+    model_points.reserve(cloud.size());
+    for (const auto& p : cloud) model_points.push_back(axes.toModel(p));
+    fit.torso = fitTorso(model_points, axes, options.torso);
+    const TorsoFit& torso = fit.torso;
+    const Line upper_axis{torso.waist, torso.upper_direction};
+    const std::vector<Part> part =
+        segmentBody(model_points, torso, upper_axis, axes.height(), options);
+    const HeadFit head = fitHead(model_points, part, torso, axes, options.torso.sectors);
+    const LimbJoints joints = fitLimbs(model_points, part, torso, axes, head.stature, options);
+    assembleModel(upper_axis, head, joints, options.joint_limits, fit);
+    const double foot_top = axes.lowest + options.foot_height * axes.height();
+    direct.without_feet.reserve(cloud.size());
+    for (size_t i = 0; i < cloud.size(); ++i)
+      if (model_points[i].y() > foot_top) direct.without_feet.push_back(cloud[i]);
+    direct.soles[0] = axes.toWorld(joints.limbs[kRightLeg].distal_end);
+    direct.soles[1] = axes.toWorld(joints.limbs[kLeftLeg].distal_end);
+    direct.fitted = true;
   } catch (const std::invalid_argument& not_a_body) {
     // Shaped unlike a body (or parts missing): a standing template at the centroid, flagged.
     fit.model = standingModel(std::max(fit.axes.height(), 0.5));
     fit.model.p = poseVectorFromFrame(fit.axes.centroid, fit.axes.axes);
-    fit.quality = evaluateFit(fit.model, full_cloud, options.quality);
-    fit.quality.low_quality = true;
-    fit.quality.reason = std::string("not fitted: ") + not_a_body.what();
+    direct.failure = std::string("not fitted: ") + not_a_body.what();
   }
-  return fit;
+  return direct;
+}
+
+// The refinement turns the shanks without the feet (the model has none) and holds their
+// lengths, so their far ends swing away from the soles the direct fit found: the length of
+// each lower leg that ends it where its sole projects onto the refined line. Measured on 10
+// subjects x 4 poses: soles 34 -> 25 mm.
+std::array<double, 2> shankLengthsToSoles(const BodyModel& model, const DirectFit& direct,
+                                          double min_length) {
+  const PosedModel posed = forwardKinematics(model);
+  std::array<double, 2> lengths{};
+  for (int side = 0; side < 2; ++side) {
+    const PosedSegment& shank = posed.segments[side == 0 ? kRightLowerLeg : kLeftLowerLeg];
+    const Eigen::Vector3d direction = (shank.distal - shank.proximal).normalized();
+    lengths[side] = std::max((direct.soles[side] - shank.proximal).dot(direction), min_length);
+  }
+  return lengths;
+}
+
+// The fit quality against the whole cloud, the direct fit's failure and the limits reached.
+void finishFit(const Cloud& full_cloud, const FitOptions& options, DirectFit& direct) {
+  BodyFit& fit = direct.fit;
+  fit.quality = evaluateFit(fit.model, full_cloud, options.quality);
+  if (!direct.fitted) {
+    fit.quality.low_quality = true;
+    fit.quality.reason = direct.failure;
+  }
+  fit.quality.limits_reached = jointLimitsReached(fit.model, options.joint_limits);
+}
+
+template <typename Values>
+double median(Values values) {
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n == 0 ? 0.0 : n % 2 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
+}
+
+}  // namespace
+
+BodyFit fitBody(const Cloud& full_cloud, const FitOptions& options) {
+  DirectFit direct = fitDirectly(full_cloud, options);
+  if (direct.fitted && options.refine) {
+    BodyModel& model = direct.fit.model;
+    direct.fit.refinement =
+        refineModel(model, direct.without_feet, options.refinement, options.joint_limits);
+    const auto shanks = shankLengthsToSoles(model, direct, options.refinement.min_length);
+    model.r[kRightLowerLeg] = shanks[0];
+    model.r[kLeftLowerLeg] = shanks[1];
+  }
+  finishFit(full_cloud, options, direct);
+  return direct.fit;
+}
+
+WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options) {
+  WalkFit result;
+  std::vector<DirectFit> directs;
+  directs.reserve(walk.size());
+  for (const Cloud& cloud : walk) directs.push_back(fitDirectly(cloud, options));
+  // One body: each length and shape value the median over the scans fitted (robust to one
+  // scan's wrong split), the lower legs' the median of each scan's length to its sole.
+  std::vector<size_t> fitted;
+  for (size_t i = 0; i < directs.size(); ++i)
+    if (directs[i].fitted) fitted.push_back(i);
+  if (!fitted.empty()) {
+    BodyModel shared = directs[fitted.front()].fit.model;
+    auto medianOf = [&](auto value) {
+      std::vector<double> values;
+      for (size_t i : fitted) values.push_back(value(directs[i].fit.model));
+      return median(values);
+    };
+    for (int s = 0; s < kSegmentCount; ++s) {
+      shared.r[s] = medianOf([s](const BodyModel& m) { return m.r[s]; });
+      shared.shape.proximal_radius[s] =
+          medianOf([s](const BodyModel& m) { return m.shape.proximal_radius[s]; });
+      shared.shape.distal_radius[s] =
+          medianOf([s](const BodyModel& m) { return m.shape.distal_radius[s]; });
+    }
+    shared.shape.shoulder_half_width =
+        medianOf([](const BodyModel& m) { return m.shape.shoulder_half_width; });
+    shared.shape.shoulder_drop = medianOf([](const BodyModel& m) { return m.shape.shoulder_drop; });
+    shared.shape.hip_half_width =
+        medianOf([](const BodyModel& m) { return m.shape.hip_half_width; });
+    shared.shape.hip_rise = medianOf([](const BodyModel& m) { return m.shape.hip_rise; });
+    std::vector<BodyModel> models;
+    std::vector<const Cloud*> clouds;
+    for (size_t i : fitted) {
+      BodyModel model = directs[i].fit.model;
+      model.r = shared.r;
+      model.shape = shared.shape;
+      models.push_back(model);
+      clouds.push_back(&directs[i].without_feet);
+    }
+    if (options.refine) {
+      result.refinement = refineWalk(models, clouds, options.refinement, options.joint_limits);
+      std::vector<double> shank_lengths[2];
+      for (size_t k = 0; k < fitted.size(); ++k) {
+        const auto lengths =
+            shankLengthsToSoles(models[k], directs[fitted[k]], options.refinement.min_length);
+        shank_lengths[0].push_back(lengths[0]);
+        shank_lengths[1].push_back(lengths[1]);
+      }
+      for (BodyModel& model : models) {
+        model.r[kRightLowerLeg] = median(shank_lengths[0]);
+        model.r[kLeftLowerLeg] = median(shank_lengths[1]);
+      }
+    }
+    for (size_t k = 0; k < fitted.size(); ++k) {
+      directs[fitted[k]].fit.model = models[k];
+      directs[fitted[k]].fit.refinement = result.refinement;
+    }
+  }
+  for (size_t i = 0; i < directs.size(); ++i) {
+    finishFit(walk[i], options, directs[i]);
+    result.scans.push_back(std::move(directs[i].fit));
+  }
+  return result;
 }
 
 }  // namespace body_gait_model

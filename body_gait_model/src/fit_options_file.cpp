@@ -8,6 +8,8 @@
 namespace body_gait_model {
 namespace {
 
+constexpr double kDegree = 3.14159265358979323846 / 180;
+
 // Reads the keys of one map into their fields; an unknown key is an error.
 class Section {
  public:
@@ -95,12 +97,53 @@ FitOptions loadFitOptions(const std::string& path) {
       .field("max_iterations", options.refinement.max_iterations)
       .field("huber_scale", options.refinement.huber_scale)
       .field("min_length", options.refinement.min_length)
-      .field("max_length_change", options.refinement.max_length_change);
+      .field("max_length_change", options.refinement.max_length_change)
+      .field("hold_thighs_in_walks", options.refinement.hold_thighs_in_walks);
+  Section limits(path, "joint_limits.");
+  // Each joint kind: the segments it bounds (both sides alike) and its range in degrees.
+  const std::pair<const char*, std::vector<int>> kJointKinds[] = {
+      {"upper_torso", {kUpperTorso}},
+      {"head", {kHead}},
+      {"lower_torso", {kLowerTorso}},
+      {"upper_arm", {kRightUpperArm, kLeftUpperArm}},
+      {"lower_arm", {kRightLowerArm, kLeftLowerArm}},
+      {"upper_leg", {kRightUpperLeg, kLeftUpperLeg}},
+      {"lower_leg", {kRightLowerLeg, kLeftLowerLeg}}};
+  for (const auto& [kind, segments] : kJointKinds) {
+    const std::string name = kind;
+    const std::vector<int> bounded = segments;
+    limits.section(name, [&, name, bounded](const YAML::Node& node) {
+      auto range = [&](const char* axis) {
+        const YAML::Node pair = node.IsMap() ? node[axis] : YAML::Node();
+        if (!pair || !pair.IsSequence() || pair.size() != 2 ||
+            !(pair[0].as<double>() <= pair[1].as<double>()))
+          throw std::runtime_error(path + ": 'joint_limits." + name + "' needs " + axis +
+                                   ": [min, max] in degrees with min <= max, e.g. {x: [-10, "
+                                   "80], z: [-10, 10]}; fix it in the file");
+        return std::pair{pair[0].as<double>() * kDegree, pair[1].as<double>() * kDegree};
+      };
+      const auto [x_min, x_max] = range("x");
+      const auto [z_min, z_max] = range("z");
+      for (int segment : bounded) options.joint_limits[segment] = {x_min, x_max, z_min, z_max};
+    });
+  }
   Section top(path, "");
   top.section("axes", [&](const YAML::Node& n) { axes.read(n); })
       .section("torso", [&](const YAML::Node& n) { torso.read(n); })
       .section("quality", [&](const YAML::Node& n) { quality.read(n); })
       .section("refinement", [&](const YAML::Node& n) { refinement.read(n); })
+      .section("joint_limits",
+               [&](const YAML::Node& n) {
+                 if (n.IsScalar() && n.as<std::string>() == "thesis")
+                   options.joint_limits = thesisJointLimits();
+                 else if (n.IsScalar() && n.as<std::string>() == "walking")
+                   options.joint_limits = walkingJointLimits();
+                 else if (n.IsScalar())
+                   throw std::runtime_error(path + ": 'joint_limits' is '" + n.as<std::string>() +
+                                            "'; use walking, thesis or a map of joint ranges");
+                 else
+                   limits.read(n);
+               })
       .field("refine", options.refine)
       .field("foot_height", options.foot_height)
       .field("arm_split_window", options.arm_split_window)

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 
 namespace body_gait_model {
 namespace {
@@ -78,6 +79,34 @@ JointLimits jointLimits(int segment) {
       return symmetric(kPi / 4, kPi / 18);
   }
   return symmetric(0, 0);
+}
+
+const JointLimitSet& thesisJointLimits() {
+  static const JointLimitSet limits = [] {
+    JointLimitSet table;
+    for (int segment = 0; segment < kSegmentCount; ++segment) table[segment] = jointLimits(segment);
+    return table;
+  }();
+  return limits;
+}
+
+const JointLimitSet& walkingJointLimits() {
+  // Values and sources: config/body_fitter.yaml (joint_limits); degrees here.
+  static const JointLimitSet limits = [] {
+    auto degrees = [](double x_min, double x_max, double z_min, double z_max) {
+      constexpr double k = kPi / 180;
+      return JointLimits{k * x_min, k * x_max, k * z_min, k * z_max};
+    };
+    JointLimitSet table;
+    table[kUpperTorso] = table[kHead] = table[kLowerTorso] = degrees(-90, 90, -90, 90);
+    table[kNeck] = degrees(0, 0, 0, 0);
+    table[kRightUpperArm] = table[kLeftUpperArm] = degrees(-50, 50, -20, 20);
+    table[kRightLowerArm] = table[kLeftLowerArm] = degrees(-90, 10, -15, 15);
+    table[kRightUpperLeg] = table[kLeftUpperLeg] = degrees(-50, 35, -15, 15);
+    table[kRightLowerLeg] = table[kLeftLowerLeg] = degrees(-10, 80, -10, 10);
+    return table;
+  }();
+  return limits;
 }
 
 int jointAngleIndex(int segment) {
@@ -237,25 +266,44 @@ Eigen::Vector3d PosedModel::joint(const std::string& name) const {
                               "shoulder, elbow, hand_tip, hip, knee, sole");
 }
 
-bool withinJointLimits(const BodyModel& model) {
+bool withinJointLimits(const BodyModel& model, const JointLimitSet& table) {
   for (int segment = 0; segment < kSegmentCount; ++segment) {
-    const JointLimits limits = jointLimits(segment);
+    const JointLimits& limits = table[segment];
     const double x = model.thetaX(segment), z = model.thetaZ(segment);
     if (x < limits.x_min || x > limits.x_max || z < limits.z_min || z > limits.z_max) return false;
   }
   return true;
 }
 
-BodyModel clampToJointLimits(BodyModel model) {
+BodyModel clampToJointLimits(BodyModel model, const JointLimitSet& table) {
   for (int segment = 0; segment < kSegmentCount; ++segment) {
     if (segment == kNeck) continue;
-    const JointLimits limits = jointLimits(segment);
+    const JointLimits& limits = table[segment];
     model.setJointAngles(segment, std::clamp(model.thetaX(segment), limits.x_min, limits.x_max),
                          std::clamp(model.thetaZ(segment), limits.z_min, limits.z_max));
   }
   // Whole body (part 0): each angle within [-pi, pi], wrapped rather than clamped.
   for (int i = 3; i < 6; ++i) model.p[i] = std::remainder(model.p[i], 2 * kPi);
   return model;
+}
+
+std::vector<std::string> jointLimitsReached(const BodyModel& model, const JointLimitSet& table,
+                                            double tolerance) {
+  std::vector<std::string> reached;
+  for (int segment = 0; segment < kSegmentCount; ++segment) {
+    if (segment == kNeck) continue;
+    const JointLimits& limits = table[segment];
+    for (const auto& [axis, angle, low, high] :
+         {std::tuple{"theta_x", model.thetaX(segment), limits.x_min, limits.x_max},
+          std::tuple{"theta_z", model.thetaZ(segment), limits.z_min, limits.z_max}}) {
+      for (const auto& [bound, name] : {std::pair{low, "min"}, std::pair{high, "max"}})
+        if (std::abs(angle - bound) <= tolerance)
+          reached.push_back(std::string(segmentInfo(segment).name) + " " + axis + " at its " +
+                            name + " " + std::to_string(int(std::lround(bound * 180 / kPi))) +
+                            " deg");
+    }
+  }
+  return reached;
 }
 
 TaperedCylinder::TaperedCylinder(const Eigen::Vector3d& proximal, const Eigen::Vector3d& distal,

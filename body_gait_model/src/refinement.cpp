@@ -8,6 +8,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace body_gait_model {
 namespace {
@@ -26,12 +29,18 @@ bool isTerminal(int segment) {
 // them: the hips lie inside the pelvis and a straight leg's knee anywhere along its line fits
 // the surface equally well, so the surface distance has nothing to place them with. Measured
 // on 10 subjects x 4 poses: segment-length error 4.6 -> 4.2 %, hips 33 -> 28 mm.
-bool heldLength(int segment) {
-  return isTerminal(segment) || segment == kLowerTorso || segment == kRightUpperLeg ||
-         segment == kLeftUpperLeg;
+// In a walk the thighs may change: a knee bent in one scan shows where it is in all.
+using HeldLengths = std::array<bool, kSegmentCount>;
+HeldLengths heldLengths(bool hold_thighs) {
+  HeldLengths held{};
+  for (int segment = 0; segment < kSegmentCount; ++segment)
+    held[segment] = isTerminal(segment) || segment == kLowerTorso ||
+                    (hold_thighs && (segment == kRightUpperLeg || segment == kLeftUpperLeg));
+  return held;
 }
 
-BodyModel withParameters(const BodyModel& base, const double* p, const double* q, const double* r) {
+BodyModel withParameters(const BodyModel& base, const double* p, const double* q, const double* r,
+                         const HeldLengths& held) {
   BodyModel model = base;
   model.p = Eigen::Map<const PoseVector>(p);
   model.q = Eigen::Map<const JointAngles>(q);
@@ -39,7 +48,7 @@ BodyModel withParameters(const BodyModel& base, const double* p, const double* q
   // an overlong cylinder back, so they would grow into the hands, feet and hair. The legs' other
   // lengths are held too (heldLength).
   for (int segment = 0; segment < kSegmentCount; ++segment)
-    if (!heldLength(segment)) model.r[segment] = r[segment];
+    if (!held[segment]) model.r[segment] = r[segment];
   return model;
 }
 
@@ -78,8 +87,9 @@ std::array<bool, kSegmentCount> movedBy(int block, int k) {
 
 class SurfaceDistanceCost : public ceres::CostFunction {
  public:
-  SurfaceDistanceCost(const BodyModel& base, const std::vector<AssignedPoint>& points)
-      : base_(base), points_(points) {
+  SurfaceDistanceCost(const BodyModel& base, const std::vector<AssignedPoint>& points,
+                      const HeldLengths& held)
+      : base_(base), points_(points), held_(held) {
     set_num_residuals(int(points.size()));
     mutable_parameter_block_sizes()->push_back(6);
     mutable_parameter_block_sizes()->push_back(22);
@@ -88,7 +98,8 @@ class SurfaceDistanceCost : public ceres::CostFunction {
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
-    const BodyModel model = withParameters(base_, parameters[0], parameters[1], parameters[2]);
+    const BodyModel model =
+        withParameters(base_, parameters[0], parameters[1], parameters[2], held_);
     residualsOf(model, points_, residuals);
     if (!jacobians) return true;
     constexpr double kStep = 1e-6;
@@ -96,15 +107,15 @@ class SurfaceDistanceCost : public ceres::CostFunction {
     for (int block = 0; block < 3; ++block) {
       if (!jacobians[block]) continue;
       for (int k = 0; k < sizes[block]; ++k) {
-        if (block == 2 && heldLength(k)) {  // a held length: no effect on any residual
+        if (block == 2 && held_[k]) {  // a held length: no effect on any residual
           for (size_t i = 0; i < points_.size(); ++i) jacobians[block][i * sizes[block] + k] = 0;
           continue;
         }
         double copy[3][22];
         for (int b = 0; b < 3; ++b) std::copy(parameters[b], parameters[b] + sizes[b], copy[b]);
         copy[block][k] += kStep;
-        const SegmentSurfaces shifted =
-            segmentSurfaces(forwardKinematics(withParameters(base_, copy[0], copy[1], copy[2])));
+        const SegmentSurfaces shifted = segmentSurfaces(
+            forwardKinematics(withParameters(base_, copy[0], copy[1], copy[2], held_)));
         const std::array<bool, kSegmentCount> moved = movedBy(block, k);
         for (size_t i = 0; i < points_.size(); ++i) {
           const int segment = points_[i].segment;
@@ -120,6 +131,7 @@ class SurfaceDistanceCost : public ceres::CostFunction {
  private:
   BodyModel base_;
   const std::vector<AssignedPoint>& points_;
+  HeldLengths held_;
 };
 
 std::vector<AssignedPoint> assign(const BodyModel& model, const Cloud& sample) {
@@ -142,52 +154,105 @@ double rms(const BodyModel& model, const std::vector<AssignedPoint>& points) {
 
 }  // namespace
 
-RefinementReport refineModel(BodyModel& model, const Cloud& cloud,
-                             const RefinementOptions& options) {
+RefinementReport refineModel(BodyModel& model, const Cloud& cloud, const RefinementOptions& options,
+                             const JointLimitSet& joint_limits) {
+  std::vector<BodyModel> models{model};
+  const RefinementReport report = refineWalk(models, {&cloud}, options, joint_limits);
+  model = models.front();
+  return report;
+}
+
+RefinementReport refineWalk(std::vector<BodyModel>& models, const std::vector<const Cloud*>& clouds,
+                            const RefinementOptions& options, const JointLimitSet& joint_limits) {
   RefinementReport report;
-  if (cloud.empty() || options.sample_points < 1) return report;
-  Cloud sample;
-  const size_t stride = std::max<size_t>(1, cloud.size() / options.sample_points);
-  for (size_t i = 0; i < cloud.size(); i += stride) sample.push_back(cloud[i]);
-  report.initial_rms = rms(model, assign(model, sample));
-  const SegmentLengths initial_lengths = model.r;
-  for (int round = 0; round < options.rounds; ++round) {
-    const std::vector<AssignedPoint> assigned = assign(model, sample);
-    double p[6], q[22], r[12];
-    Eigen::Map<PoseVector>{p} = model.p;
-    Eigen::Map<JointAngles>{q} = model.q;
-    Eigen::Map<SegmentLengths>{r} = model.r;
-    ceres::Problem problem;
-    problem.AddResidualBlock(new SurfaceDistanceCost(model, assigned),
-                             new ceres::HuberLoss(options.huber_scale), p, q, r);
-    for (int segment = 0; segment < kSegmentCount; ++segment) {
-      const int index = jointAngleIndex(segment);
-      if (index < 0) continue;
-      const JointLimits limits = jointLimits(segment);
-      problem.SetParameterLowerBound(q, index, limits.x_min);
-      problem.SetParameterUpperBound(q, index, limits.x_max);
-      problem.SetParameterLowerBound(q, index + 1, limits.z_min);
-      problem.SetParameterUpperBound(q, index + 1, limits.z_max);
+  if (models.size() != clouds.size())
+    throw std::invalid_argument("refineWalk: " + std::to_string(models.size()) + " models for " +
+                                std::to_string(clouds.size()) + " clouds; pass one model per scan");
+  if (models.empty() || options.sample_points < 1) return report;
+  const size_t scans = models.size();
+  std::vector<Cloud> samples(scans);
+  size_t total_points = 0;
+  for (size_t i = 0; i < scans; ++i) {
+    const Cloud& cloud = *clouds[i];
+    const size_t stride = std::max<size_t>(1, cloud.size() / options.sample_points);
+    for (size_t k = 0; k < cloud.size(); k += stride) samples[i].push_back(cloud[k]);
+    total_points += samples[i].size();
+  }
+  if (total_points == 0) return report;
+  auto walkRms = [&] {
+    double sum = 0;
+    size_t count = 0;
+    for (size_t i = 0; i < scans; ++i) {
+      const double value = rms(models[i], assign(models[i], samples[i]));
+      sum += value * value * samples[i].size();
+      count += samples[i].size();
     }
+    return count > 0 ? std::sqrt(sum / count) : 0.0;
+  };
+  report.initial_rms = walkRms();
+  // The lengths (and the shape) are the first model's: one body in every scan.
+  const SegmentLengths initial_lengths = models.front().r;
+  const HeldLengths held = heldLengths(scans == 1 || options.hold_thighs_in_walks);
+  for (int round = 0; round < options.rounds; ++round) {
+    std::vector<std::vector<AssignedPoint>> assigned(scans);
+    std::vector<std::array<double, 6>> p(scans);
+    std::vector<std::array<double, 22>> q(scans);
+    double r[12];
+    Eigen::Map<SegmentLengths>{r} = models.front().r;
+    ceres::Problem problem;
     // Lengths within +-max_length_change of the direct fit's (RefinementOptions).
     for (int i = 0; i < 12; ++i) {
       const double low =
           std::max(options.min_length, (1 - options.max_length_change) * initial_lengths[i]);
       const double high = std::max(low, (1 + options.max_length_change) * initial_lengths[i]);
       r[i] = std::clamp(r[i], low, high);
+    }
+    for (size_t i = 0; i < scans; ++i) {
+      if (samples[i].empty()) continue;
+      assigned[i] = assign(models[i], samples[i]);
+      Eigen::Map<PoseVector>{p[i].data()} = models[i].p;
+      Eigen::Map<JointAngles>{q[i].data()} = models[i].q;
+      problem.AddResidualBlock(new SurfaceDistanceCost(models[i], assigned[i], held),
+                               new ceres::HuberLoss(options.huber_scale), p[i].data(), q[i].data(),
+                               r);
+      for (int segment = 0; segment < kSegmentCount; ++segment) {
+        const int index = jointAngleIndex(segment);
+        if (index < 0) continue;
+        const JointLimits& limits = joint_limits[segment];
+        problem.SetParameterLowerBound(q[i].data(), index, limits.x_min);
+        problem.SetParameterUpperBound(q[i].data(), index, limits.x_max);
+        problem.SetParameterLowerBound(q[i].data(), index + 1, limits.z_min);
+        problem.SetParameterUpperBound(q[i].data(), index + 1, limits.z_max);
+      }
+    }
+    for (int i = 0; i < 12; ++i) {
+      const double low =
+          std::max(options.min_length, (1 - options.max_length_change) * initial_lengths[i]);
+      const double high = std::max(low, (1 + options.max_length_change) * initial_lengths[i]);
       problem.SetParameterLowerBound(r, i, low);
       problem.SetParameterUpperBound(r, i, high + 1e-9);
     }
     ceres::Solver::Options solver;
     solver.max_num_iterations = options.max_iterations;
+    // One scan: a small dense problem. A walk: each scan's rows touch only its own pose and the
+    // shared lengths, so the normal equations are sparse (dense QR of 4 scans took ~1 s).
     solver.linear_solver_type = ceres::DENSE_QR;
+    if (scans > 1 && ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::EIGEN_SPARSE)) {
+      solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+      solver.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
+    } else if (scans > 1) {
+      solver.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+    }
     solver.num_threads = 1;
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &problem, &summary);
     report.iterations += int(summary.iterations.size());
-    model = withParameters(model, p, q, r);
+    for (size_t i = 0; i < scans; ++i)
+      models[i] = samples[i].empty()
+                      ? withParameters(models[i], models[i].p.data(), models[i].q.data(), r, held)
+                      : withParameters(models[i], p[i].data(), q[i].data(), r, held);
   }
-  report.final_rms = rms(model, assign(model, sample));
+  report.final_rms = walkRms();
   return report;
 }
 

@@ -30,7 +30,7 @@ TEST(BodyFitter, FitsSubjectsInTheFourGaitPoses) {
       const BodyFit fit = fitBody(body.points);
       fit_seconds +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      EXPECT_TRUE(withinJointLimits(fit.model));
+      EXPECT_TRUE(withinJointLimits(fit.model, FitOptions{}.joint_limits));
       const eval::FitErrors errors = eval::compareWithTruth(fit.model, body);
       EXPECT_TRUE(errors.front_right && errors.left_right) << spec.name << " pose " << pose;
       right += errors.front_right && errors.left_right;
@@ -54,6 +54,54 @@ TEST(BodyFitter, FitsSubjectsInTheFourGaitPoses) {
   EXPECT_LE(swing, 4 * kPi / 180);
   EXPECT_LE(joint, 0.025);
   EXPECT_LE(length, 0.05);
+}
+
+// fitWalk: the 4 poses of one subject fitted together share one body (lengths, radii, joint
+// offsets), each with its own pose; the lengths are no worse than fitting each scan alone.
+TEST(BodyFitter, WalkFitSharesOneBodyAcrossTheScans) {
+  const auto subject = eval::simulatedSubjects(2)[1];
+  eval::ScanRig rig;
+  rig.columns = 200;
+  rig.rows = 162;
+  rig.noise_sigma = 0.002;
+  std::vector<eval::SampledBody> bodies;
+  std::vector<Cloud> walk;
+  for (int pose = 1; pose <= 4; ++pose) {
+    auto spec = subject;
+    spec.pose = eval::gaitPose(pose, 0.3 + 1.7 * pose);
+    bodies.push_back(eval::sampleBody(spec, rig));
+    walk.push_back(bodies.back().points);
+  }
+  const WalkFit fits = fitWalk(walk);
+  ASSERT_EQ(fits.scans.size(), 4u);
+  double walk_joint = 0, walk_length = 0, scan_joint = 0, scan_length = 0;
+  for (int k = 0; k < 4; ++k) {
+    const BodyModel& model = fits.scans[k].model;
+    for (int s = 0; s < kSegmentCount; ++s) {
+      EXPECT_DOUBLE_EQ(model.r[s], fits.scans[0].model.r[s]) << segmentInfo(s).name;
+      EXPECT_DOUBLE_EQ(model.shape.proximal_radius[s],
+                       fits.scans[0].model.shape.proximal_radius[s]);
+    }
+    EXPECT_DOUBLE_EQ(model.shape.hip_half_width, fits.scans[0].model.shape.hip_half_width);
+    EXPECT_FALSE(fits.scans[k].quality.low_quality) << fits.scans[k].quality.reason;
+    const eval::FitErrors errors = eval::compareWithTruth(model, bodies[k]);
+    EXPECT_TRUE(errors.front_right && errors.left_right) << "pose " << k + 1;
+    walk_joint += errors.mean_joint_error / 4;
+    walk_length += errors.mean_length_error / 4;
+    const eval::FitErrors alone = eval::compareWithTruth(fitBody(walk[k]).model, bodies[k]);
+    scan_joint += alone.mean_joint_error / 4;
+    scan_length += alone.mean_length_error / 4;
+  }
+  std::printf(
+      "[ figure ] walk fit of 4 poses: joint %.1f mm, length %.1f %% (each scan alone: %.1f mm, "
+      "%.1f %%); sampled RMS %.1f -> %.1f mm\n",
+      1000 * walk_joint, 100 * walk_length, 1000 * scan_joint, 100 * scan_length,
+      1000 * fits.refinement.initial_rms, 1000 * fits.refinement.final_rms);
+  EXPECT_LT(fits.refinement.final_rms, fits.refinement.initial_rms);
+  EXPECT_LE(walk_length, scan_length + 0.005);
+  EXPECT_LE(walk_joint, 0.025);
+  std::vector<BodyModel> two(2, fits.scans[0].model);
+  EXPECT_THROW(refineWalk(two, {&walk[0]}), std::invalid_argument);
 }
 
 TEST(BodyFitter, RefinementLowersTheSurfaceDistanceWithinJointLimits) {

@@ -1,12 +1,17 @@
 // BodyFitter node: a simulated body cloud on /body_scan/cloud gives a BodyModel whose joints are
 // within the core fitter's figures of the simulator's true skeleton, with markers and the URDF;
 // the calibration cylinder gives low_quality; an empty or non-world cloud gives no model and
-// the node keeps running.
+// the node keeps running; a walk's 4 clouds (ids from their scan reports) give 4 models with the
+// walk id and pose index and the walk's gait cycle.
 #include <body_gait_model/eval/body_cloud_sampler.h>
+#include <body_gait_model/eval/gait_subjects.h>
 #include <body_gait_model/ros/body_model_msg.h>
+#include <body_scan_msgs/GaitSequence.h>
+#include <body_scan_msgs/ScanReport.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -128,6 +133,64 @@ TEST_F(BodyFitterNode, RejectsEmptyAndNonWorldCloudsAndKeepsRunning) {
   EXPECT_FALSE(fit(body.points, "pole_a/pair_1_camera_optical_frame", 1.5))
       << "a cloud outside the world frame was fitted";
   EXPECT_TRUE(fit(body.points, "world")) << "the node stopped fitting after bad clouds";
+}
+
+TEST_F(BodyFitterNode, FitsAWalksFourCloudsAndPublishesItsGaitCycle) {
+  ros::Publisher report_pub =
+      nh_.advertise<body_scan_msgs::ScanReport>("/body_scan/scan_report", 8);
+  std::vector<body_scan_msgs::GaitSequence> sequences;
+  ros::Subscriber sequence_sub = nh_.subscribe<body_scan_msgs::GaitSequence>(
+      "/body_gait/gait_sequence", 2,
+      [&](const body_scan_msgs::GaitSequenceConstPtr& msg) { sequences.push_back(*msg); });
+  for (const ros::Time end = ros::Time::now() + ros::Duration(10);
+       ros::ok() && ros::Time::now() < end && report_pub.getNumSubscribers() == 0;)
+    ros::Duration(0.02).sleep();
+  ASSERT_GT(report_pub.getNumSubscribers(), 0u) << "the fitter does not read scan reports";
+  const eval::SimulatedPerson person = eval::simulatedPeople(1)[0];
+  eval::ScanRig rig;
+  rig.columns = 160;
+  rig.rows = 130;
+  std::vector<ros::Time> stamps;
+  for (int pose = 1; pose <= 4; ++pose) {
+    const auto body = eval::sampleBody(eval::walkingSubject(person, pose, 0, 0.0), rig);
+    std_msgs::Header header;
+    header.frame_id = "world";
+    header.stamp = ros::Time::now();
+    stamps.push_back(header.stamp);
+    body_scan_msgs::ScanReport report;
+    report.header = header;
+    report.scan_id = 100 + pose;
+    report.walk_id = 9;
+    report.pose_index = pose;
+    // The report before its cloud (as Merge sends them) and after it: both pair up by stamp.
+    if (pose % 2) report_pub.publish(report);
+    cloud_pub_.publish(cloudToMsg(body.points, header));
+    if (pose % 2 == 0) {
+      ros::Duration(0.2).sleep();
+      report_pub.publish(report);
+    }
+  }
+  const ros::Time deadline = ros::Time::now() + ros::Duration(30);
+  while (ros::ok() && ros::Time::now() < deadline && sequences.empty()) {
+    ros::spinOnce();
+    ros::Duration(0.02).sleep();
+  }
+  ASSERT_EQ(sequences.size(), 1u) << "no gait cycle for the walk";
+  EXPECT_EQ(sequences[0].walk_id, 9u);
+  EXPECT_EQ(sequences[0].frames.size(), 20u);
+  ros::spinOnce();
+  for (int pose = 1; pose <= 4; ++pose) {
+    const auto model = std::find_if(models_.begin(), models_.end(), [&](const auto& m) {
+      return m.header.stamp == stamps[pose - 1];
+    });
+    ASSERT_NE(model, models_.end()) << "no model of pose " << pose;
+    EXPECT_EQ(model->walk_id, 9u);
+    EXPECT_EQ(model->pose_index, pose);
+    EXPECT_EQ(model->scan_id, 100u + pose);
+    EXPECT_FALSE(model->low_quality) << "pose " << pose << ": " << model->reason;
+  }
+  std::printf("[ figure ] walk of 4 clouds: 4 models, gait cycle of %zu frames, stride %.2f m\n",
+              sequences[0].frames.size(), sequences[0].stride_length);
 }
 
 }  // namespace

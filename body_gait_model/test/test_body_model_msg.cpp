@@ -72,6 +72,14 @@ TEST(BodyModelMsg, RoundTripPosesTheSameModel) {
   auto short_msg = msg;
   short_msg.r.pop_back();
   EXPECT_THROW(fromMsg(short_msg), std::invalid_argument);
+  auto nan_msg = msg;
+  nan_msg.q[7] = std::numeric_limits<double>::quiet_NaN();
+  try {
+    fromMsg(nan_msg);
+    ADD_FAILURE() << "a NaN joint angle was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "BodyModel.q[7] is not finite");
+  }
   const auto states = jointStates(fit.model, std_msgs::Header());
   EXPECT_EQ(states.name, urdfJointNames());
   EXPECT_DOUBLE_EQ(states.position[jointAngleIndex(kRightUpperLeg)], 0.4);
@@ -108,6 +116,10 @@ TEST(BodyModelMsg, ReadsCloudLayoutsAndRejectsBadOnes) {
   auto short_data = msg;
   short_data.data.resize(50);
   EXPECT_THROW(cloudFromMsg(short_data), std::invalid_argument);
+  // An offset near 2^31 must not wrap around into the point.
+  auto far_field = msg;
+  far_field.fields[0].offset = 0x7FFFFFFCu;
+  EXPECT_THROW(cloudFromMsg(far_field), std::invalid_argument);
 }
 
 }  // namespace

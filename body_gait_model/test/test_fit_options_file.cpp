@@ -28,6 +28,27 @@ TEST(FitOptionsFile, ShippedConfigHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(read.axes.shoulder_band_high, defaults.axes.shoulder_band_high);
   EXPECT_EQ(read.refinement.sample_points, defaults.refinement.sample_points);
   EXPECT_DOUBLE_EQ(read.hip_height, defaults.hip_height);
+  for (int segment = 0; segment < kSegmentCount; ++segment) {
+    SCOPED_TRACE(segmentInfo(segment).name);
+    EXPECT_NEAR(read.joint_limits[segment].x_min, walkingJointLimits()[segment].x_min, 1e-12);
+    EXPECT_NEAR(read.joint_limits[segment].x_max, walkingJointLimits()[segment].x_max, 1e-12);
+    EXPECT_NEAR(read.joint_limits[segment].z_min, walkingJointLimits()[segment].z_min, 1e-12);
+    EXPECT_NEAR(read.joint_limits[segment].z_max, walkingJointLimits()[segment].z_max, 1e-12);
+  }
+}
+
+TEST(FitOptionsFile, JointLimitSetsAreSelectable) {
+  const std::string thesis_path = writeTemp("joint_limits: thesis\n");
+  const FitOptions thesis = loadFitOptions(thesis_path);
+  std::remove(thesis_path.c_str());
+  EXPECT_DOUBLE_EQ(thesis.joint_limits[kLeftLowerLeg].x_max, jointLimits(kLeftLowerLeg).x_max);
+  const std::string knee_path = writeTemp("joint_limits: {lower_leg: {x: [0, 90], z: [-5, 5]}}\n");
+  const FitOptions knee = loadFitOptions(knee_path);
+  std::remove(knee_path.c_str());
+  EXPECT_NEAR(knee.joint_limits[kRightLowerLeg].x_max, 3.14159265358979323846 / 2, 1e-12);
+  EXPECT_NEAR(knee.joint_limits[kLeftLowerLeg].z_min, -5 * 3.14159265358979323846 / 180, 1e-12);
+  EXPECT_DOUBLE_EQ(knee.joint_limits[kLeftUpperArm].x_max,
+                   walkingJointLimits()[kLeftUpperArm].x_max);  // untouched
 }
 
 TEST(FitOptionsFile, OverridesLandInTheirFields) {
@@ -56,6 +77,9 @@ TEST(FitOptionsFile, BadFilesAreClearErrors) {
   expectError("torso: {sector: 24}\n", "unknown key 'torso.sector'");
   expectError("refine: maybe\n", "'refine' has value 'maybe' of the wrong type");
   expectError("[1, 2]\n", "must be a map");
+  expectError("joint_limits: table52\n", "use walking, thesis or a map");
+  expectError("joint_limits: {knee: {x: [0, 90], z: [0, 0]}}\n", "unknown key 'joint_limits.knee'");
+  expectError("joint_limits: {lower_leg: {x: [90, 0], z: [0, 0]}}\n", "min <= max");
   EXPECT_THROW(loadFitOptions("/nonexistent/body_fitter.yaml"), std::runtime_error);
 }
 

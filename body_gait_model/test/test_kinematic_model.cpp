@@ -124,6 +124,32 @@ TEST(KinematicModel, DirectionsAndFramesInvertForwardKinematics) {
   }
 }
 
+// A real swing knee flexes 60-70 deg: the walking set holds it, Table 5.2's (30 deg) does not,
+// and the bound a clamped angle lands on is named.
+TEST(KinematicModel, WalkingLimitsHoldASwingKneeAndNameTheBoundsReached) {
+  BodyModel model = standingModel(1.7);
+  const double knee = 65 * kPi / 180, elbow = -40 * kPi / 180, hip = -32 * kPi / 180;
+  model.setJointAngles(kRightLowerLeg, knee, 0);
+  model.setJointAngles(kRightLowerArm, elbow, 0);
+  model.setJointAngles(kLeftUpperLeg, hip, 0);
+  EXPECT_TRUE(withinJointLimits(model, walkingJointLimits()));
+  EXPECT_FALSE(withinJointLimits(model, thesisJointLimits()));
+  EXPECT_TRUE(jointLimitsReached(model, walkingJointLimits()).empty());
+  EXPECT_GE(walkingJointLimits()[kLeftLowerLeg].x_max, 75 * kPi / 180);  // the knee
+  // Flexion is +theta_x of the lower leg: the shank's far end swings backward (-Z_m).
+  const PosedModel posed = forwardKinematics(model);
+  const Eigen::Vector3d shank = posed.segments[kRightLowerLeg].distal - posed.joint("right_knee");
+  EXPECT_LT(shank.dot(posed.whole_body.linear().col(2)), -0.1);
+  model.setJointAngles(kRightLowerLeg, 2.0, 0);  // 115 deg
+  const BodyModel clamped = clampToJointLimits(model, walkingJointLimits());
+  EXPECT_DOUBLE_EQ(clamped.thetaX(kRightLowerLeg), walkingJointLimits()[kRightLowerLeg].x_max);
+  const std::vector<std::string> reached = jointLimitsReached(clamped, walkingJointLimits());
+  ASSERT_EQ(reached.size(), 1u);
+  EXPECT_EQ(reached[0], "right_lower_leg theta_x at its max 80 deg");
+  EXPECT_EQ(jointLimitsReached(clampToJointLimits(model), thesisJointLimits()),
+            std::vector<std::string>{"right_lower_leg theta_x at its max 30 deg"});
+}
+
 TEST(KinematicModel, JointLimitsOfTable52AreEnforced) {
   const JointLimits arm = jointLimits(kRightUpperArm);
   EXPECT_DOUBLE_EQ(arm.x_max, kPi / 6);
@@ -145,6 +171,7 @@ TEST(KinematicModel, JointLimitsOfTable52AreEnforced) {
   EXPECT_DOUBLE_EQ(clamped.thetaX(kLeftLowerLeg), -kPi / 6);
   EXPECT_DOUBLE_EQ(clamped.thetaZ(kLeftLowerLeg), 0.05);  // inside: untouched
   EXPECT_THROW(model.setJointAngles(kNeck, 0.1, 0), std::invalid_argument);
+  EXPECT_EQ(thesisJointLimits()[kLeftLowerLeg].x_max, jointLimits(kLeftLowerLeg).x_max);
   EXPECT_THROW(segmentInfo(12), std::out_of_range);
   EXPECT_THROW(forwardKinematics(model).joint("left_ear"), std::invalid_argument);
 }

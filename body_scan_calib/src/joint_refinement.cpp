@@ -125,12 +125,21 @@ JointRefinementResult refineJointly(const JointRefinementInput& input) {
   for (size_t i = 0; i < planes.points.size(); ++i) {
     const int stripe = planes.point_stripes[i];
     const Eigen::Vector4d& plane = plane_blocks[stripe];
-    if (!plane.allFinite()) continue;
+    // Planes of the smooth model (few poses) have no free per-stripe parameters here.
+    if (!plane.allFinite() || planes.poses_per_stripe[stripe] < 3) continue;
     if (std::abs(plane.head<3>().dot(planes.points[i]) + plane[3]) <=
         3 * planes.rms_per_stripe_m[stripe])
       inliers.push_back(i);
   }
   const size_t step = std::max<size_t>(1, inliers.size() / std::max(1, input.max_stripe_points));
+  // Neighbouring stripe points share their pose's error (decoding bias along a checker edge,
+  // the board's print): they are not independent samples. With balance_groups their total
+  // weight is capped at the corners' so that their count (hundreds to one) cannot outvote them.
+  const size_t plane_points = (inliers.size() + step - 1) / step;
+  const double plane_group_weight =
+      input.balance_groups ? std::min(1.0, std::sqrt(static_cast<double>(corner_count) /
+                                                     std::max<size_t>(1, plane_points)))
+                           : 1.0;
   std::vector<char> plane_used(plane_blocks.size(), 0);
   double plane_squared_before = 0;
   size_t plane_count = 0;
@@ -143,9 +152,9 @@ JointRefinementResult refineJointly(const JointRefinementInput& input) {
     ++plane_count;
     problem.AddResidualBlock(
         new ceres::AutoDiffCostFunction<StripePointResidual, 1, 7, 6, 4>(
-            new StripePointResidual{planes.point_pixels[i], 1.0 / plane_sigma}),
-        new ceres::HuberLoss(3.0), intrinsics, poses[planes.point_poses[i]].data(),
-        plane_blocks[stripe].data());
+            new StripePointResidual{planes.point_pixels[i], plane_group_weight / plane_sigma}),
+        new ceres::HuberLoss(3.0 * plane_group_weight), intrinsics,
+        poses[planes.point_poses[i]].data(), plane_blocks[stripe].data());
     plane_used[stripe] = 1;
   }
   for (size_t stripe = 0; stripe < plane_blocks.size(); ++stripe)

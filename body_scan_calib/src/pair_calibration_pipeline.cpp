@@ -1,9 +1,11 @@
+#include <body_scan_calib/capture_decoding.h>
 #include <body_scan_calib/joint_refinement.h>
 #include <body_scan_calib/pair_calibration_pipeline.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
@@ -13,6 +15,11 @@ namespace body_scan_calib {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// A joint refinement that worsens the corner rms by more than this factor is refused: the
+// stripe points would be pulling the camera off its corners.
+constexpr double kMaxCornerRmsGrowth = 1.10;
+// Above this growth the refinement is repeated with the stripe points weighed as one group.
+constexpr double kRebalanceCornerRmsGrowth = 1.05;
 
 std::vector<Eigen::Vector3d> triangulateCloud(const body_scan_driver::PairCalibration& calibration,
                                               const cv::Mat1f& coordinate) {
@@ -24,6 +31,25 @@ std::vector<Eigen::Vector3d> triangulateCloud(const body_scan_driver::PairCalibr
     if (std::isfinite(xyz[3 * i + 2]))
       cloud.emplace_back(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
   return cloud;
+}
+
+std::string projectorSummary(const ProjectorCalibrationResult& planes,
+                             const ProjectorCalibrationOptions& options) {
+  const int stripes = planes.projector.stripeCount();
+  const int on_board =
+      static_cast<int>(std::count_if(planes.poses_per_stripe.begin(), planes.poses_per_stripe.end(),
+                                     [](int poses) { return poses > 0; }));
+  std::ostringstream line;
+  line << "projector: " << stripes - planes.missing_stripes.size() << " of " << stripes
+       << " planes (" << on_board << " stripes on a board; " << planes.smooth_stripes.size()
+       << " from the smooth model, " << planes.extrapolated_stripes.size()
+       << " of them extrapolated); " << planes.missing_stripes.size() << " NaN ("
+       << (options.model == StripePlaneModel::kPerStripe
+               ? "seen on fewer than " + std::to_string(options.min_poses_per_stripe) + " poses"
+               : "more than " + std::to_string(options.extrapolation_margin) +
+                     " stripes beyond every board")
+       << "), rms " << planes.rms_m * 1e3 << " mm";
+  return line.str();
 }
 
 }  // namespace
@@ -85,7 +111,8 @@ cv::Mat1b boardRegion(const body_scan_driver::PinholeCamera& camera,
 PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& pose_frames,
                                      const body_scan_driver::PatternLayout& layout,
                                      const PairCalibrationOptions& options,
-                                     const Progress& progress) {
+                                     const Progress& progress,
+                                     const std::vector<std::vector<cv::Mat>>& pose_cross_frames) {
   auto report = [&](const std::string& message) {
     if (progress) progress(message);
   };
@@ -108,11 +135,11 @@ PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& po
   outcome.camera = estimateCameraAndBoardPoses(board_images, options.board);
   report("camera: reprojection rms " + std::to_string(outcome.camera.rms_px) + " px");
 
-  const body_scan_driver::StripeDecoder decoder(layout);
   std::vector<ReferencePlaneObservation> observations;
   for (size_t pose = 0; pose < pose_frames.size(); ++pose) {
-    body_scan_driver::StripeImage stripes;
-    decoder.decode(pose_frames[pose], stripes);
+    const body_scan_driver::StripeImage stripes = decodePatternFrames(
+        pose_frames[pose],
+        pose < pose_cross_frames.size() ? pose_cross_frames[pose] : std::vector<cv::Mat>(), layout);
     observations.push_back(
         {outcome.camera.board_to_camera[pose], stripes.coordinate.clone(),
          boardRegion(outcome.camera.camera, outcome.camera.board_to_camera[pose], options.board)});
@@ -122,11 +149,7 @@ PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& po
   ProjectorCalibrationOptions projector_options = options.projector;
   projector_options.stripe_count = layout.stripeCount();
   outcome.planes = calibrateStripePlanes(outcome.camera.camera, observations, projector_options);
-  report(
-      "projector: " + std::to_string(layout.stripeCount() - outcome.planes.missing_stripes.size()) +
-      " planes fitted, " + std::to_string(outcome.planes.missing_stripes.size()) +
-      " stripes seen on fewer than " + std::to_string(projector_options.min_poses_per_stripe) +
-      " poses (stored as NaN), rms " + std::to_string(outcome.planes.rms_m * 1e3) + " mm");
+  report(projectorSummary(outcome.planes, projector_options));
 
   if (options.joint_refinement) {
     report("joint refinement of camera, board poses and planes (Ceres)...");
@@ -136,21 +159,39 @@ PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& po
     input.corners = outcome.camera.corners;
     input.board_points = options.board.objectPoints();
     input.planes = &outcome.planes;
-    const JointRefinementResult refined = refineJointly(input);
+    JointRefinementResult refined = refineJointly(input);
+    if (refined.corner_rms_px_after > kRebalanceCornerRmsGrowth * refined.corner_rms_px_before) {
+      // The stripe points pull the camera off its corners: weigh them as one group.
+      report("joint refinement: corner rms " + std::to_string(refined.corner_rms_px_before) +
+             " -> " + std::to_string(refined.corner_rms_px_after) +
+             " px; again with the stripe points' weight capped at the corners'");
+      input.balance_groups = true;
+      refined = refineJointly(input);
+    }
     const double plane_rms_before = outcome.planes.rms_m;
-    outcome.camera.camera = refined.camera;
-    outcome.camera.board_to_camera = refined.board_to_camera;
-    outcome.camera.rms_px = refined.corner_rms_px_after;
-    for (size_t pose = 0; pose < observations.size(); ++pose)
-      observations[pose].board_to_camera = refined.board_to_camera[pose];
-    // With camera and poses at the optimum, the least-squares planes are the refined planes.
-    outcome.planes = calibrateStripePlanes(refined.camera, observations, projector_options);
-    std::ostringstream line;
-    line << refined.summary << "; corner rms " << refined.corner_rms_px_before << " -> "
-         << refined.corner_rms_px_after << " px, plane-fit rms " << plane_rms_before * 1e3 << " -> "
-         << outcome.planes.rms_m * 1e3 << " mm";
-    outcome.refinement_summary = line.str();
-    report(outcome.refinement_summary);
+    if (refined.corner_rms_px_after > kMaxCornerRmsGrowth * refined.corner_rms_px_before) {
+      std::ostringstream line;
+      line << "joint refinement REFUSED: corner rms " << refined.corner_rms_px_before << " -> "
+           << refined.corner_rms_px_after << " px (more than "
+           << std::lround((kMaxCornerRmsGrowth - 1) * 100)
+           << " % worse); the board-only camera and the plane fits are kept";
+      outcome.refinement_summary = line.str();
+      report(outcome.refinement_summary);
+    } else {
+      outcome.camera.camera = refined.camera;
+      outcome.camera.board_to_camera = refined.board_to_camera;
+      outcome.camera.rms_px = refined.corner_rms_px_after;
+      for (size_t pose = 0; pose < observations.size(); ++pose)
+        observations[pose].board_to_camera = refined.board_to_camera[pose];
+      // With camera and poses at the optimum, the least-squares planes are the refined planes.
+      outcome.planes = calibrateStripePlanes(refined.camera, observations, projector_options);
+      std::ostringstream line;
+      line << refined.summary << "; corner rms " << refined.corner_rms_px_before << " -> "
+           << refined.corner_rms_px_after << " px, plane-fit rms " << plane_rms_before * 1e3
+           << " -> " << outcome.planes.rms_m * 1e3 << " mm";
+      outcome.refinement_summary = line.str();
+      report(outcome.refinement_summary);
+    }
   }
 
   std::vector<double> coordinates;
@@ -295,8 +336,17 @@ std::string accuracyReportYaml(const PairCalibrationOutcome& outcome,
   out << YAML::Key << "stripes" << YAML::Value << outcome.planes.projector.stripeCount();
   out << YAML::Key << "planes_fitted" << YAML::Value
       << outcome.planes.projector.stripeCount() - outcome.planes.missing_stripes.size();
-  out << YAML::Key << "stripes_seen_on_fewer_than_3_poses_stored_as_nan" << YAML::Value
-      << YAML::Flow << outcome.planes.missing_stripes;
+  out << YAML::Key << "stripes_stored_as_nan" << YAML::Value << YAML::Flow
+      << outcome.planes.missing_stripes;
+  out << YAML::Key << "stripes_from_smooth_model" << YAML::Value
+      << outcome.planes.smooth_stripes.size();
+  out << YAML::Key << "stripes_extrapolated_beyond_the_boards" << YAML::Value << YAML::Flow
+      << outcome.planes.extrapolated_stripes;
+  // Support per stripe: the poses and the points (inliers) each plane rests on.
+  out << YAML::Key << "poses_per_stripe" << YAML::Value << YAML::Flow
+      << outcome.planes.poses_per_stripe;
+  out << YAML::Key << "points_per_stripe" << YAML::Value << YAML::Flow
+      << outcome.planes.points_per_stripe;
   out << YAML::Key << "plane_fit_rms_mm" << YAML::Value
       << rounded(outcome.planes.rms_m * 1e3, 1e-5);
   out << YAML::Key << "points" << YAML::Value << outcome.planes.points.size();

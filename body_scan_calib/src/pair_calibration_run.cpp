@@ -81,11 +81,19 @@ void printAccuracyTables(const std::vector<AccuracyEvaluation>& evaluations) {
 }  // namespace
 
 PairViews loadPairViews(const std::string& folder, int bits, int exposures) {
+  return loadPairViews(folder, captureLayout("project"), CaptureBits{bits, 0}, exposures);
+}
+
+PairViews loadPairViews(const std::string& folder, const CaptureLayout& layout,
+                        const CaptureBits& bits, int exposures) {
   PairViews views;
-  views.layout = body_scan_driver::PatternLayout(bits, true);
+  views.layout = body_scan_driver::PatternLayout(bits.stripe_bits, true);
   views.exposures = exposures;
-  std::cout << "reading " << folder << std::endl;
-  views.pose_frames = loadPoseCaptures(folder, views.layout);
+  std::cout << "reading " << folder << " (" << layout.name << " layout)" << std::endl;
+  for (CapturedPatternSet& pose : loadCapturedPoses(folder, layout, bits)) {
+    views.pose_frames.push_back(std::move(pose.frames));
+    views.pose_cross_frames.push_back(std::move(pose.cross_frames));
+  }
   const fs::path spheres = fs::path(folder) / "spheres";
   if (fs::is_directory(spheres))
     views.sphere_frames = loadPatternFrames(spheres.string(), views.layout);
@@ -98,10 +106,11 @@ PairCalibrationOutcome calibratePairToFiles(const PairViews& views,
   std::cout << "calibrating from " << views.pose_frames.size() << " reference-plane poses"
             << std::endl;
   const PairCalibrationOutcome outcome =
-      calibratePair(views.pose_frames, views.layout, options, progress);
+      calibratePair(views.pose_frames, views.layout, options, progress, views.pose_cross_frames);
   for (int stripe : outcome.planes.missing_stripes)
-    std::cout << "  stripe " << stripe << " seen on " << outcome.planes.poses_per_stripe[stripe]
-              << " poses: not calibrated (NaN plane; it triangulates to nothing)\n";
+    if (outcome.planes.poses_per_stripe[stripe] > 0)
+      std::cout << "  stripe " << stripe << " seen on " << outcome.planes.poses_per_stripe[stripe]
+                << " poses: not calibrated (NaN plane; it triangulates to nothing)\n";
   body_scan_driver::saveCalibration(files.calibration, outcome.calibration);
   std::cout << "wrote " << files.calibration << std::endl;
 

@@ -1,7 +1,9 @@
+#include <body_scan_calib/pinhole_projector.h>
 #include <body_scan_calib/projector_calibration.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -25,6 +27,123 @@ bool stripesChangeAlongRows(const cv::Mat1f& coordinate) {
     }
   return along_rows >= along_columns;
 }
+
+// Uniform cubic B-spline: the 4 basis weights at local parameter t in [0, 1) of a segment.
+std::array<double, 4> cubicBasis(double t) {
+  const double u = 1 - t;
+  return {u * u * u / 6, (3 * t * t * t - 6 * t * t + 4) / 6,
+          (-3 * t * t * t + 3 * t * t + 3 * t + 1) / 6, t * t * t / 6};
+}
+
+// The smooth model of StripePlaneModel (see the header): a pencil of planes through one line
+// (the projector's centre line; a 1-D pinhole, pinhole_projector.h) fitted robustly to all
+// points, whose stripe coordinate is then corrected by a smooth cubic B-spline of the stripe
+// index (the projector's distortion). A stripe one pose saw is a line on that board: the
+// pencil fixes its plane, which a plane per stripe cannot.
+class SmoothStripePlanes {
+ public:
+  SmoothStripePlanes(int first, int last, int stripes_per_segment)
+      : first_(first),
+        segments_(std::max(1, (last - first + stripes_per_segment) / stripes_per_segment)),
+        width_(static_cast<double>(last + 1 - first) / segments_),
+        correction_(Eigen::VectorXd::Zero(segments_ + 3)) {}
+
+  void fit(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& stripes) {
+    std::vector<char> used(points.size(), 1);
+    for (int round = 0; round < 4; ++round) {
+      std::vector<Eigen::Vector3d> inliers;
+      std::vector<double> coordinates;
+      for (size_t i = 0; i < points.size(); ++i)
+        if (used[i]) {
+          inliers.push_back(points[i]);
+          coordinates.push_back(stripes[i] + 0.5 + correctionAt(stripes[i] + 0.5));
+        }
+      pencil_ = estimatePinholeProjector(inliers, coordinates).projector;
+      fitCorrection(points, stripes, used);
+      // Residuals in stripes; inliers within 3 robust sigmas (median absolute deviation).
+      std::vector<double> residuals(points.size()), magnitudes;
+      for (size_t i = 0; i < points.size(); ++i) {
+        residuals[i] = stripeResidual(points[i], stripes[i]);
+        if (used[i]) magnitudes.push_back(std::abs(residuals[i]));
+      }
+      if (magnitudes.empty()) break;
+      std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2,
+                       magnitudes.end());
+      const double sigma = std::max(1e-3, 1.4826 * magnitudes[magnitudes.size() / 2]);
+      for (size_t i = 0; i < points.size(); ++i) used[i] = std::abs(residuals[i]) <= 3 * sigma;
+    }
+    double squared = 0;
+    size_t count = 0;
+    for (size_t i = 0; i < points.size(); ++i)
+      if (used[i]) {
+        squared += std::pow(distance(points[i], stripes[i]), 2);
+        ++count;
+      }
+    rms_ = count ? std::sqrt(squared / count) : 0;
+  }
+
+  // Plane of stripe i's centre, unit normal, suite orientation.
+  Eigen::Vector4d plane(int stripe) const {
+    const Eigen::Vector4d p = pencil_.planeAt(stripe + 0.5 + correctionAt(stripe + 0.5));
+    return orientPlane(p / p.head<3>().norm());
+  }
+  double distance(const Eigen::Vector3d& point, int stripe) const {
+    const Eigen::Vector4d p = plane(stripe);
+    return p.head<3>().dot(point) + p[3];
+  }
+  double rms() const { return rms_; }
+
+ private:
+  double stripeResidual(const Eigen::Vector3d& point, int stripe) const {
+    return pencil_.stripeAt(point) - (stripe + 0.5 + correctionAt(stripe + 0.5));
+  }
+  std::array<double, 4> weights(double stripe_centre, int& segment) const {
+    const double x = std::clamp((stripe_centre - first_) / width_, 0.0, segments_ - 1e-9);
+    segment = std::min(segments_ - 1, static_cast<int>(x));
+    return cubicBasis(x - segment);
+  }
+  double correctionAt(double stripe_centre) const {
+    int segment;
+    const std::array<double, 4> basis = weights(stripe_centre, segment);
+    double value = 0;
+    for (int j = 0; j < 4; ++j) value += basis[j] * correction_[segment + j];
+    return value;
+  }
+  // Least squares of the pencil's coordinate minus the stripe centre, with a weak second-
+  // difference penalty that only decides where no stripe was seen.
+  void fitCorrection(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& stripes,
+                     const std::vector<char>& used) {
+    const int k = segments_ + 3;
+    Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(k, k);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k);
+    size_t count = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (!used[i]) continue;
+      ++count;
+      int segment;
+      const double centre = stripes[i] + 0.5;
+      const std::array<double, 4> basis = weights(centre, segment);
+      const double target = pencil_.stripeAt(points[i]) - centre;
+      for (int r = 0; r < 4; ++r) {
+        rhs[segment + r] += basis[r] * target;
+        for (int c = 0; c < 4; ++c) normal(segment + r, segment + c) += basis[r] * basis[c];
+      }
+    }
+    const double smoothing = 1e-3 * static_cast<double>(std::max<size_t>(count, 1)) / k;
+    for (int j = 0; j + 2 < k; ++j) {
+      const double w[3] = {1, -2, 1};
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) normal(j + r, j + c) += smoothing * w[r] * w[c];
+    }
+    correction_ = normal.ldlt().solve(rhs);
+  }
+
+  int first_, segments_;
+  double width_;
+  PinholeProjector pencil_;
+  Eigen::VectorXd correction_;  // B-spline coefficients, stripes
+  double rms_ = 0;
+};
 
 }  // namespace
 
@@ -165,6 +284,43 @@ ProjectorCalibrationResult calibrateStripePlanes(
     result.rms_per_stripe_m[stripe] = fit.rms;
     squared_sum += fit.rms * fit.rms * used;
     fitted_points += used;
+  }
+  if (options.model != StripePlaneModel::kPerStripe && !result.points.empty()) {
+    const auto [low, high] =
+        std::minmax_element(result.point_stripes.begin(), result.point_stripes.end());
+    const int first = std::max(0, *low - options.extrapolation_margin);
+    const int last = std::min(stripes - 1, *high + options.extrapolation_margin);
+    SmoothStripePlanes smooth(first, last, std::max(4, options.stripes_per_spline_segment));
+    smooth.fit(result.points, result.point_stripes);
+    result.smooth_rms_m = smooth.rms();
+    result.missing_stripes.clear();
+    for (int stripe = 0; stripe < stripes; ++stripe) {
+      const bool per_stripe = options.model == StripePlaneModel::kSmoothFillsGaps &&
+                              result.poses_per_stripe[stripe] >= options.min_poses_per_stripe;
+      if (per_stripe) continue;
+      if (stripe < first || stripe > last) {
+        result.projector.planes[stripe] = Eigen::Vector4d::Constant(kNaN);
+        result.points_per_stripe[stripe] = 0;
+        result.rms_per_stripe_m[stripe] = kNaN;
+        result.missing_stripes.push_back(stripe);
+        continue;
+      }
+      result.projector.planes[stripe] = smooth.plane(stripe);
+      result.smooth_stripes.push_back(stripe);
+      if (stripe_points[stripe].empty()) result.extrapolated_stripes.push_back(stripe);
+      int used = 0;
+      double squared = 0;
+      for (int index : stripe_points[stripe]) {
+        const double d = smooth.distance(result.points[index], stripe);
+        if (std::abs(d) > 3 * smooth.rms()) continue;
+        ++used;
+        squared += d * d;
+      }
+      result.points_per_stripe[stripe] = used;
+      result.rms_per_stripe_m[stripe] = used ? std::sqrt(squared / used) : kNaN;
+      squared_sum += squared;
+      fitted_points += used;
+    }
   }
   result.rms_m = fitted_points ? std::sqrt(squared_sum / fitted_points) : kNaN;
   return result;

@@ -58,7 +58,10 @@ void drawPanel(
     cv::putText(image, format(y), {5, row + 4}, cv::FONT_HERSHEY_SIMPLEX, 0.4, black, 1,
                 cv::LINE_AA);
   }
-  for (int stripe = 0; stripe < stripes; stripe += 32) {
+  // About eight labels whatever the stripe count (a power of two: 32 for 256, 128 for 1024).
+  int label_step = 1;
+  while (stripes / label_step > 8) label_step *= 2;
+  for (int stripe = 0; stripe < stripes; stripe += label_step) {
     const int column = static_cast<int>(to_x(stripe));
     cv::line(image, {column, bottom}, {column, bottom + 4}, black, 1);
     cv::putText(image, std::to_string(stripe), {column - 8, bottom + 18}, cv::FONT_HERSHEY_SIMPLEX,

@@ -2,8 +2,9 @@
 // 3.3.1) and writes a YAML whose camera part camera_calibration_parsers reads, with a report
 // of the reprojection RMS (overall, per image) and the parameter standard deviations.
 //
-//   calibrate_camera --images DIR --cols 9 --rows 6 --square 0.025 --output FILE
-//                    [--camera-name NAME] [--estimate-skew]
+//   calibrate_camera --images DIR --board-cols 9 --board-rows 6 --square 0.025 --output FILE
+//                    [--camera-name NAME] [--estimate-skew] [--layout opencv ...]
+// With --layout, DIR is a capture folder and the lit frame of every board pose is used.
 #include <body_scan_calib/camera_calibration.h>
 #include <body_scan_calib/camera_calibration_io.h>
 #include <body_scan_driver/tools/command_line.h>
@@ -11,10 +12,13 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
+
+#include "calibration_outputs.h"
 
 namespace fs = std::filesystem;
 using namespace body_scan_calib;
@@ -24,6 +28,7 @@ namespace {
 struct Arguments {
   std::string images, output, camera_name = "camera";
   Checkerboard board;
+  tools::CaptureOptions capture{""};  // "" = a plain folder of board images
   bool estimate_skew = false;
 };
 
@@ -47,13 +52,36 @@ struct DetectedViews {
   int width = 0, height = 0;
 };
 
-DetectedViews detectBoards(const std::vector<fs::path>& files, const Checkerboard& board) {
+// A board image by name, read when its turn comes.
+struct BoardImage {
+  std::string name;
+  std::function<cv::Mat()> read;
+};
+
+// The images of a plain folder, or the lit frame of every pose of a capture folder (--layout).
+std::vector<BoardImage> boardImages(const Arguments& arguments) {
+  std::vector<BoardImage> images;
+  if (arguments.capture.layout.empty()) {
+    for (const fs::path& file : listImages(arguments.images))
+      images.push_back({file.filename().string(),
+                        [file] { return cv::imread(file.string(), cv::IMREAD_GRAYSCALE); }});
+    return images;
+  }
+  for (const CapturedPatternSet& pose : loadCapturedPoses(
+           arguments.images, arguments.capture.captureLayout(), arguments.capture.captureBits())) {
+    const cv::Mat lit = pose.frames[body_scan_driver::PatternLayout::litFrame()];
+    images.push_back({fs::path(pose.folder).filename().string(), [lit] { return lit; }});
+  }
+  return images;
+}
+
+DetectedViews detectBoards(const std::vector<BoardImage>& files, const Checkerboard& board) {
   DetectedViews detected;
   auto& [views, view_names, not_found, width, height] = detected;
   for (size_t i = 0; i < files.size(); ++i) {
-    const std::string name = files[i].filename().string();
+    const std::string& name = files[i].name;
     std::printf("[%zu/%zu] %s: ", i + 1, files.size(), name.c_str());
-    const cv::Mat image = cv::imread(files[i].string(), cv::IMREAD_GRAYSCALE);
+    const cv::Mat image = files[i].read();
     if (image.empty()) {
       std::printf("cannot be read, skipped\n");
       not_found.push_back(name + " (unreadable)");
@@ -107,25 +135,12 @@ int main(int argc, char** argv) {
       "the parameter standard deviations.",
       "calibrate_camera");
   Arguments arguments;
-  app.add_option("--images", arguments.images, "folder of board images")->required();
-  app.add_option("--cols", arguments.board.inner_cols,
-                 "INNER corners of the board across (where four squares meet), e.g. 9")
-      ->capture_default_str()
-      ->check(CLI::Range(2, 1000));
-  app.add_option("--rows", arguments.board.inner_rows, "INNER corners of the board down, e.g. 6")
-      ->capture_default_str()
-      ->check(CLI::Range(2, 1000));
-  app.add_option("--square", arguments.board.square_size,
-                 "side of one square in METRES, e.g. 0.025")
-      ->capture_default_str()
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            double metres = 0;
-            return CLI::detail::lexical_cast(text, metres) && metres > 0 && metres <= 1
-                       ? std::string()
-                       : "the side of one square in METRES (e.g. 0.025), got " + text;
-          },
-          "METRES"));
+  app.add_option("--images", arguments.images,
+                 "folder of board images, or with --layout a capture folder (the lit frame of "
+                 "every pose)")
+      ->required();
+  tools::addBoardOptions(app, arguments.board);
+  tools::addCaptureOptions(app, arguments.capture);
   app.add_option("--output", arguments.output,
                  "calibration YAML to write (atomically); its camera part is readable by "
                  "camera_calibration_parsers")
@@ -141,7 +156,13 @@ int main(int argc, char** argv) {
               << "' is not a folder; pass --images with the folder of board images\n";
     return 1;
   }
-  const std::vector<fs::path> files = listImages(arguments.images);
+  std::vector<BoardImage> files;
+  try {
+    files = boardImages(arguments);
+  } catch (const std::exception& e) {
+    std::cerr << "calibrate_camera: " << e.what() << "\n";
+    return 1;
+  }
   if (files.empty()) {
     std::cerr << "calibrate_camera: no images (.png, .jpg, .bmp, .pgm, .ppm, .tif) in '"
               << arguments.images << "'\n";
@@ -160,10 +181,11 @@ int main(int argc, char** argv) {
     std::cerr << "\n";
   }
   if (views.size() < 3) {
-    std::cerr << "calibrate_camera: too few views: the board was found in " << views.size()
-              << " images, at least 3 with different tilts are needed. Check --cols/--rows "
-                 "(INNER corners, e.g. 9 and 6 for a 10x7-square board) and that the whole "
-                 "board with its white margin is in view.\n";
+    std::cerr
+        << "calibrate_camera: too few views: the board was found in " << views.size()
+        << " images, at least 3 with different tilts are needed. Check --board-cols/--board-rows "
+           "(INNER corners, e.g. 9 and 6 for a 10x7-square board) and that the whole "
+           "board with its white margin is in view.\n";
     return 1;
   }
 

@@ -3,8 +3,11 @@
 // Writes the calibration file, the accuracy report (YAML) and the Fig 3.6 plot (PNG), all
 // atomically. calibrate_simulated_pair runs the same on views rendered by the virtual pair.
 #include <body_scan_calib/pair_calibration_run.h>
+#include <body_scan_calib/pair_validation.h>
+#include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/tools/command_line.h>
 
+#include <cstdio>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -14,9 +17,13 @@
 namespace {
 
 struct Arguments {
-  std::string images, pair_id = "pair";
-  int exposures = 16, bits = 8;
+  std::string images, pair_id = "pair", validation_report;
+  int exposures = 16;
+  body_scan_calib::tools::CaptureOptions capture;
+  body_scan_calib::Checkerboard board = body_scan_calib::referenceBoard();
   bool refinement = true;
+  body_scan_calib::tools::DecodingChoice decoding;
+  std::optional<body_scan_calib::StripePlaneModel> stripe_model;  // unset: by layout
   body_scan_calib::PairCalibrationFiles files;
 };
 
@@ -29,8 +36,8 @@ std::optional<int> parse(int argc, char** argv, Arguments& arguments) {
       "pair instead.",
       "calibrate_pair");
   app.add_option("--images", arguments.images,
-                 "recorded captures: FOLDER/pose_NN/frame_MM.png (pattern frames in PatternSet "
-                 "order, >= 3 poses), optional FOLDER/spheres/frame_MM.png to evaluate")
+                 "recorded captures: one folder per board pose (>= 3) in the --layout, e.g. "
+                 "FOLDER/pose_NN/frame_MM.png; optional FOLDER/spheres/frame_MM.png to evaluate")
       ->required()
       ->check(CLI::ExistingDirectory);
   app.add_option("--pair-id", arguments.pair_id,
@@ -40,14 +47,51 @@ std::optional<int> parse(int argc, char** argv, Arguments& arguments) {
                  "how many frames the recorded frames average per pattern (for the report)")
       ->capture_default_str()
       ->check(body_scan_driver::tools::atLeast(1));
-  app.add_option("--bits", arguments.bits, "Gray code bits of the captures")
-      ->capture_default_str()
-      ->check(CLI::Range(body_scan_driver::kMinBits, body_scan_driver::kMaxBits));
+  body_scan_calib::tools::addCaptureOptions(app, arguments.capture);
+  body_scan_calib::tools::addBoardOptions(app, arguments.board);
+  app.add_option("--validate", arguments.validation_report,
+                 "also validate leave-one-pose-out (>= 4 poses) beside the OpenCV pinhole-"
+                 "projector peer (needs the row frames) and write this YAML");
+  app.add_option_function<std::string>(
+         "--stripe-model",
+         [&arguments](const std::string& name) {
+           arguments.stripe_model =
+               name == "per-stripe"          ? body_scan_calib::StripePlaneModel::kPerStripe
+               : name == "smooth-fills-gaps" ? body_scan_calib::StripePlaneModel::kSmoothFillsGaps
+                                             : body_scan_calib::StripePlaneModel::kSmooth;
+         },
+         "stripe planes: per-stripe (thesis eq 3.5; stripes on < 3 poses are NaN; the swept-"
+         "mirror projector), smooth (a pencil of planes with a smooth correction across stripe "
+         "index, every stripe a board showed; pinhole DLP/LCD projectors) or smooth-fills-gaps "
+         "(per stripe where >= 3 poses, smooth elsewhere). Default: per-stripe for --layout "
+         "project, smooth otherwise")
+      ->check(CLI::IsMember({"per-stripe", "smooth", "smooth-fills-gaps"}));
+  body_scan_calib::tools::addDecodingOption(app, arguments.decoding);
   bool no_refinement = false;
   body_scan_calib::tools::addPairCalibrationOutputs(app, arguments.files, no_refinement);
   if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv)) return status;
   arguments.refinement = !no_refinement;
   return std::nullopt;
+}
+
+void printStatistics(const char* name, const body_scan_calib::PlaneErrorStatistics& s) {
+  std::printf("  %-6s %9.2f %10.3f %8.3f %8.3f %9.3f\n", name, 100 * s.coverage, s.median_mm,
+              s.rms_mm, s.p95_mm, 100 * s.gross_share);
+}
+
+void validate(const body_scan_calib::PairViews& views,
+              const body_scan_calib::PairCalibrationOptions& options, const std::string& path) {
+  std::cout << "leave-one-pose-out validation" << std::endl;
+  const body_scan_calib::PairValidation validation = body_scan_calib::validateLeaveOnePoseOut(
+      views, options, {}, [](const std::string& line) { std::cout << "  " << line << std::endl; });
+  std::printf("  stripes calibrated: %d of %d on a board\n", validation.stripes_calibrated,
+              validation.stripes_on_board);
+  std::printf("  model  coverage%% median_mm   rms_mm   p95_mm  gross%%(>%.0f mm)\n",
+              validation.gross_mm);
+  printStatistics("ours", validation.ours.pooled);
+  if (!validation.peer.per_pose.empty()) printStatistics("peer", validation.peer.pooled);
+  body_scan_driver::writeFileAtomically(path, body_scan_calib::validationYaml(validation));
+  std::cout << "wrote " << path << std::endl;
 }
 
 }  // namespace
@@ -59,9 +103,17 @@ int main(int argc, char** argv) {
     body_scan_calib::PairCalibrationOptions options;
     options.joint_refinement = arguments.refinement;
     options.pair_id = arguments.pair_id;
+    options.board = arguments.board;
+    const bool project_layout = arguments.capture.layout == "project";
+    options.projector.model = arguments.stripe_model.value_or(
+        project_layout ? body_scan_calib::StripePlaneModel::kPerStripe
+                       : body_scan_calib::StripePlaneModel::kSmooth);
+    options.decoding.enabled = arguments.decoding.robust(arguments.capture);
     const body_scan_calib::PairViews views =
-        body_scan_calib::loadPairViews(arguments.images, arguments.bits, arguments.exposures);
+        body_scan_calib::loadPairViews(arguments.images, arguments.capture.captureLayout(),
+                                       arguments.capture.captureBits(), arguments.exposures);
     body_scan_calib::calibratePairToFiles(views, options, arguments.files);
+    if (!arguments.validation_report.empty()) validate(views, options, arguments.validation_report);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;

@@ -144,10 +144,12 @@ int runCalibratePair(const Settings& settings, int bits, const std::string& pair
   std::vector<char*> argv;
   for (std::string& argument : arguments) argv.push_back(argument.data());
   argv.push_back(nullptr);
+  // Made before fork: a child of this multi-threaded node must not allocate.
+  const std::string exec_error = "cannot run " + settings.calibrate_pair;
   const pid_t child = fork();
   if (child == 0) {
     execvp(argv[0], argv.data());
-    std::perror(("cannot run " + settings.calibrate_pair).c_str());
+    std::perror(exec_error.c_str());
     _exit(127);
   }
   if (child < 0) return -1;

@@ -12,7 +12,8 @@
 // Scenes: "plane" fills the view (every pixel decodes: the worst case); "person" is the
 // single_pair scene. Cache: "hot" repeats one set (it stays in cache); "stream" cycles through
 // 8 sets (44 MB, more than the last-level cache), as pattern sets arriving from a camera do.
-// RenderPatternSet times the virtual pair (2 threads). Every case runs kRepetitions times;
+// RenderPatternSet times the virtual pair (2 threads); RenderPersonSet1Thread one person's set on
+// one thread, the mesh human (ours) against the ellipsoid body. Every case runs kRepetitions times;
 // scripts/bench_report.py takes the medians and prints the ratios against .../ours.
 #include <benchmark/benchmark.h>
 #include <body_scan_driver/pair_device.h>
@@ -50,8 +51,10 @@ const SceneSets& scene(const std::string& name) {
                                             sim::Material{0.8, {0.8, 0.8, 0.8}}));
     config.world_from_camera = sim::cameraPose({0, 0, 0}, 0, 0);
   } else {
-    world = std::make_shared<sim::Scene>(
-        sim::loadScene(sim::driverConfigDir() + "/scenes/standing_person.yaml"));
+    // "person": the ellipsoid body; "mesh_person": the mesh human in the same pose.
+    world = std::make_shared<sim::Scene>(sim::loadScene(
+        sim::driverConfigDir() +
+        (name == "mesh_person" ? "/scenes/mesh_person.yaml" : "/scenes/standing_person.yaml")));
     config = sim::loadVirtualPairConfig(sim::driverConfigDir() + "/pairs/default_pair.yaml");
   }
   entry.pair = std::make_unique<sim::VirtualPair>(config, world);
@@ -178,6 +181,16 @@ void render(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(s.pair->render(scan++).frames.data());
 }
 
+// One person's pattern set on one thread: the mesh human (.../ours) against the ellipsoid body
+// (.../ellipsoid), same pair and pose.
+void renderOneThread(benchmark::State& state) {
+  cv::setNumThreads(1);
+  const SceneSets& s = scene(state.range(0) ? "mesh_person" : "person");
+  uint32_t scan = 2;
+  for (auto _ : state) benchmark::DoNotOptimize(s.pair->render(scan++).frames.data());
+  cv::setNumThreads(2);
+}
+
 void registerAll() {
   for (int person : {0, 1})
     for (int stream : {0, 1}) {
@@ -204,6 +217,14 @@ void registerAll() {
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
         ->Iterations(10)
+        ->Repetitions(3)
+        ->ReportAggregatesOnly(true);
+  for (int mesh : {1, 0})
+    benchmark::RegisterBenchmark(
+        mesh ? "RenderPersonSet1Thread/ours" : "RenderPersonSet1Thread/ellipsoid", renderOneThread)
+        ->Args({mesh})
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(5)
         ->Repetitions(3)
         ->ReportAggregatesOnly(true);
 }

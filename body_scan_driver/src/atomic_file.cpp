@@ -1,4 +1,6 @@
 #include <body_scan_driver/atomic_file.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -7,7 +9,7 @@
 
 namespace body_scan_driver {
 
-void writeFileAtomically(const std::string& path, const std::string& contents) {
+void writeFileAtomically(const std::string& path, const std::string& contents, bool owner_only) {
   const std::filesystem::path target(path);
   std::error_code error;
   if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path(), error);
@@ -16,6 +18,10 @@ void writeFileAtomically(const std::string& path, const std::string& contents) {
                          "): choose a writable location");
   // Same folder as the target, so the rename cannot cross file systems.
   const std::string temporary = path + ".tmp" + std::to_string(::getpid());
+  if (owner_only) {
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    if (fd >= 0) ::fchmod(fd, 0600), ::close(fd);  // an old temporary keeps its mode otherwise
+  }
   {
     std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
     file.write(contents.data(), static_cast<std::streamsize>(contents.size()));

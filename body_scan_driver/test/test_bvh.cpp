@@ -18,9 +18,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 namespace body_scan_driver::sim {
 namespace {
 
-// Seed files of the BVH fuzz target (fuzz/corpus): valid and malformed motion capture.
+// Seed files of the BVH fuzz target (fuzz/corpus/bvh): valid and malformed motion capture.
 std::string fuzzCorpus() {
-  return body_scan_driver::tools::packageDir("body_scan_driver") + "/fuzz/corpus";
+  return body_scan_driver::tools::packageDir("body_scan_driver") + "/fuzz/corpus/bvh";
 }
 
 namespace fs = std::filesystem;

@@ -3,12 +3,15 @@
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+#include <sys/mman.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <new>
 #include <thread>
 
 namespace body_scan_merge {
@@ -77,6 +80,22 @@ float meanColour(float r, float g, float b, float n) {
 }
 
 }  // namespace
+
+void* allocateWorkBuffer(size_t bytes) {
+  constexpr size_t kHugePage = size_t{2} << 20;
+  void* block = nullptr;
+  if (bytes >= kHugePage) {
+    const size_t size = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+    block = std::aligned_alloc(kHugePage, size);
+    if (block) ::madvise(block, size, MADV_HUGEPAGE);  // a hint: without it, 4 kB pages
+  } else {
+    block = std::malloc(bytes > 0 ? bytes : 1);
+  }
+  if (!block) throw std::bad_alloc();
+  return block;
+}
+
+void freeWorkBuffer(void* block) { std::free(block); }
 
 // The voxel keys are PCL's (z-major, 32 bits). Sorting them all at once would scatter the whole
 // cloud through memory several times, and the centroids would then gather points at random; a
@@ -244,8 +263,11 @@ void CloudMerger::addPart(size_t index, const CloudView& part) {
   const float white = meanColour(255, 255, 255, 1);
   const Eigen::Matrix3f rotation = part.world_from_cloud.linear().cast<float>();
   const Eigen::Vector3f translation = part.world_from_cloud.translation().cast<float>();
-  if (kept_[index].size() < 4 * part.count) kept_[index].resize(4 * part.count);
-  float* out = kept_[index].data();
+  // Sized to the points kept, not to the organized cloud: most of a pair's pixels are not in
+  // the scan volume, and a buffer for all of them (tens of MB over 12 pairs) would cost the
+  // first scan its page faults. Grows by doubling; kept from one scan to the next.
+  WorkBuffer<float>& buffer = kept_[index];
+  float* out = buffer.data();
   size_t valid = 0, kept = 0;
   for (size_t i = 0; i < part.count; ++i) {
     const float* p = part.points + i * part.stride;
@@ -253,6 +275,10 @@ void CloudMerger::addPart(size_t index, const CloudView& part) {
     ++valid;
     const Eigen::Vector3f w = rotation * Eigen::Vector3f(p[0], p[1], p[2]) + translation;
     if (w.x() * w.x() + w.y() * w.y() > radius2 || w.z() < min_z || w.z() > max_z) continue;
+    if (4 * (kept + 1) > buffer.size()) {
+      buffer.resize(std::max<size_t>(4 * 16384, 2 * buffer.size()));
+      out = buffer.data();
+    }
     float* o = out + 4 * kept++;
     o[0] = w.x(), o[1] = w.y(), o[2] = w.z();
     o[3] = part.rgb_offset >= 0 ? p[part.rgb_offset] : white;

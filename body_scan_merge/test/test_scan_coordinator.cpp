@@ -1,10 +1,14 @@
 // ScanCoordinator rostest (scan_coordinator.test): the scan service triggers every pair of the
-// plan with the scan id, in groups; a pair whose driver is absent is named, the others capture.
+// plan with the scan id, in groups; a pair whose driver is absent is named, the others capture;
+// a walk session scans 4 poses, each pattern set stamped with the walk id and pose index.
+#include <body_scan_msgs/CaptureWalk.h>
 #include <body_scan_msgs/PatternSet.h>
 #include <body_scan_msgs/Scan.h>
 #include <body_scan_msgs/TimingGroups.h>
+#include <body_scan_msgs/WalkProgress.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <std_msgs/Empty.h>
 
 #include <algorithm>
 #include <map>
@@ -17,7 +21,8 @@ const std::vector<std::string> kPresent = {"pole_a/pair_1", "pole_a/pair_3", "po
 
 struct PatternSets {
   std::mutex mutex;
-  std::map<std::string, std::multiset<uint32_t>> scan_ids;  // per pair
+  std::map<std::string, std::multiset<uint32_t>> scan_ids;              // per pair
+  std::map<uint32_t, std::set<std::pair<uint32_t, int>>> walk_of_scan;  // (walk id, pose index)
   std::vector<ros::Subscriber> subscribers;
 
   explicit PatternSets(ros::NodeHandle& nh) {
@@ -26,6 +31,7 @@ struct PatternSets {
           "/" + id + "/pattern_set", 10, [this](const body_scan_msgs::PatternSetConstPtr& set) {
             std::lock_guard<std::mutex> lock(mutex);
             scan_ids[set->pair_id].insert(set->scan_id);
+            walk_of_scan[set->scan_id].insert({set->walk_id, set->pose_index});
           }));
     // A set published before the connection is made is lost: a scan that needs no planning
     // (all_at_once) answers within milliseconds of the subscription.
@@ -144,6 +150,67 @@ TEST(ScanCoordinator, AllAtOnceTriggersEveryPairInOneGroup) {
             std::set<std::string>(kPresent.begin(), kPresent.end()));
   EXPECT_DOUBLE_EQ(scan.response.simulated_capture_seconds, 0.5);
   EXPECT_TRUE(sets.allHave(120));
+}
+
+TEST(ScanCoordinator, AWalkScansFourPosesStampedWithWalkIdAndPoseOnTrigger) {
+  ros::NodeHandle nh;
+  PatternSets sets(nh);
+  ASSERT_TRUE(ros::service::waitForService("/body_scan/capture_walk", ros::Duration(30)));
+  // The operator: triggers each pose once it has been prompted.
+  std::mutex mutex;
+  std::vector<body_scan_msgs::WalkProgress> progress;
+  ros::Publisher trigger = nh.advertise<std_msgs::Empty>("/body_scan/walk_trigger", 4);
+  ros::Subscriber progress_sub = nh.subscribe<body_scan_msgs::WalkProgress>(
+      "/body_scan/walk_progress", 20, [&](const body_scan_msgs::WalkProgressConstPtr& p) {
+        std::lock_guard<std::mutex> lock(mutex);
+        progress.push_back(*p);
+        if (p->state == body_scan_msgs::WalkProgress::PROMPT && p->waiting_for_trigger)
+          trigger.publish(std_msgs::Empty());
+      });
+  for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10.0);
+       ros::WallTime::now() < end &&
+       (trigger.getNumSubscribers() == 0 || progress_sub.getNumPublishers() == 0);
+       ros::WallDuration(0.02).sleep()) {
+  }
+  body_scan_msgs::CaptureWalk walk;
+  walk.request.walk_id = 5;
+  walk.request.trigger = true;
+  ASSERT_TRUE(ros::service::call("/body_scan/capture_walk", walk));
+  EXPECT_TRUE(walk.response.success) << walk.response.message;
+  EXPECT_EQ(walk.response.walk_id, 5u);
+  ASSERT_EQ(walk.response.scan_ids.size(), 4u);
+  for (int pose = 1; pose <= 4; ++pose) {
+    const uint32_t scan_id = walk.response.scan_ids[pose - 1];
+    EXPECT_TRUE(sets.allHave(scan_id)) << "pose " << pose;
+    std::lock_guard<std::mutex> lock(sets.mutex);
+    // Every pair's set of this scan carries the same walk id and pose index.
+    EXPECT_EQ(sets.walk_of_scan[scan_id], (std::set<std::pair<uint32_t, int>>{{5u, pose}}));
+  }
+  // Prompted, scanned and done in order (the latched DONE is the last message).
+  for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(5.0);
+       ros::WallTime::now() < end; ros::WallDuration(0.02).sleep()) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!progress.empty() && progress.back().state == body_scan_msgs::WalkProgress::DONE) break;
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  std::vector<std::pair<int, int>> steps;  // (state, pose) of prompts and scanned poses
+  for (const auto& p : progress)
+    if (p.walk_id == 5 && p.state != body_scan_msgs::WalkProgress::SCANNING)
+      steps.push_back({p.state, p.pose_index});
+  using P = body_scan_msgs::WalkProgress;
+  const std::vector<std::pair<int, int>> expected = {
+      {P::PROMPT, 1},  {P::SCANNED, 1}, {P::PROMPT, 2},  {P::SCANNED, 2}, {P::PROMPT, 3},
+      {P::SCANNED, 3}, {P::PROMPT, 4},  {P::SCANNED, 4}, {P::DONE, 4}};
+  EXPECT_EQ(steps, expected);
+  std::cout << "[ figure ] " << walk.response.message << "\n";
+
+  // A single scan after the walk is no part of it.
+  body_scan_msgs::Scan single;
+  ASSERT_TRUE(ros::service::call("/body_scan/capture", single));
+  EXPECT_TRUE(sets.allHave(single.response.scan_id));
+  std::lock_guard<std::mutex> sets_lock(sets.mutex);
+  EXPECT_EQ(sets.walk_of_scan[single.response.scan_id],
+            (std::set<std::pair<uint32_t, int>>{{0u, 0}}));
 }
 
 int main(int argc, char** argv) {

@@ -3,9 +3,11 @@
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <mutex>
@@ -13,6 +15,17 @@
 using namespace body_scan_driver;
 
 namespace {
+
+// Publishers of `topic` registered with the master.
+size_t registeredPublishers(const std::string& topic) {
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  if (!ros::master::execute("getSystemState", args, result, payload, true)) return 0;
+  for (int i = 0; i < payload[0].size(); ++i)
+    if (static_cast<std::string>(payload[0][i][0]) == topic)
+      return static_cast<size_t>(payload[0][i][1].size());
+  return 0;
+}
 
 class TriangulateNode : public testing::Test {
  protected:
@@ -108,6 +121,34 @@ TEST_F(TriangulateNode, RejectsBadInputAndKeepsRunning) {
     }
   EXPECT_GT(valid, 300000);
   EXPECT_LT(1000 * error / valid, 1.0) << "mean |z - 1 m| in mm";
+}
+
+// A set whose frames declare a row step smaller than their width used to throw from the
+// cv::Mat constructor outside any try block and terminate the whole nodelet manager. Now: one
+// error naming the field on /rosout, nothing published, and the next good set triangulates.
+TEST_F(TriangulateNode, MalformedRowStepKeepsTheManagerAlive) {
+  saveCalibration(calibration_file_, pair_->factoryCalibration());
+  std::vector<std::string> errors;
+  ros::Subscriber rosout = nh_.subscribe<rosgraph_msgs::Log>(
+      "/rosout", 100, [&](const rosgraph_msgs::Log::ConstPtr& log) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (log->level >= rosgraph_msgs::Log::ERROR && log->name == "/manager")
+          errors.push_back(log->msg);
+      });
+  // Connected to every node's /rosout (the manager's among them) before the error is logged.
+  for (int i = 0; i < 100 && rosout.getNumPublishers() < registeredPublishers("/rosout"); ++i)
+    ros::WallDuration(0.05).sleep();
+  ASSERT_GE(rosout.getNumPublishers(), registeredPublishers("/rosout"));
+
+  body_scan_msgs::PatternSet malformed = *good_;
+  malformed.frames[0].step = malformed.frames[0].width - 1;
+  EXPECT_EQ(publishAndCount(malformed, 1.5), 0) << "the malformed set was triangulated";
+  ASSERT_EQ(publishAndCount(*good_, 10.0), 1) << "the manager did not survive";
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto named = std::count_if(errors.begin(), errors.end(), [](const std::string& e) {
+    return e.find("frames[0].step 639 is less than width") != std::string::npos;
+  });
+  EXPECT_EQ(named, 1) << "errors from /manager: " << errors.size();
 }
 
 // World alignment (eq 4.1): a calibration whose planes scale every range by 2% carries an

@@ -27,26 +27,37 @@ namespace {
 using body_gait_model::GaitSet;
 using Clock = std::chrono::steady_clock;
 
+// Names the scans in the fit cache's key: a mesh body's fits are not an ellipsoid body's.
 std::string scannerSettings(const ScanOptions& options) {
-  if (options.scanner == ScannerKind::kFull) return "full scanner (thesis rig)";
-  if (options.scanner == ScannerKind::kTruth) return "true skeleton";
+  const std::string body =
+      options.body == body_gait_model::eval::BodyKind::kMesh ? " body=mesh" : "";
+  if (options.scanner == ScannerKind::kFull) return "full scanner (thesis rig)" + body;
+  if (options.scanner == ScannerKind::kTruth) return "true skeleton" + body;
   char text[96];
   std::snprintf(text, sizeof(text), "sampler columns=%d noise=%.6g", options.sampler_columns,
                 options.sampler_noise);
-  return text;
+  return text + body;
 }
 
 CachedFit scanAndFit(const body_scan_driver::sim::HumanBodySpec& spec, const ScanOptions& options) {
-  if (options.scanner == ScannerKind::kTruth)
-    return {body_gait_model::eval::modelFromSkeleton(spec), false, 0};
+  if (options.scanner == ScannerKind::kTruth) {
+    if (options.body == body_gait_model::eval::BodyKind::kEllipsoid)
+      return {body_gait_model::eval::modelFromSkeleton(spec), false, 0};
+    body_scan_driver::sim::Scene scene;
+    const auto placed = body_gait_model::eval::addSimulatedBody(spec, options.body, scene);
+    return {body_gait_model::eval::modelFromSkeleton(scene.skeleton(), placed.body), false, 0};
+  }
   body_gait_model::eval::SampledBody body;
   if (options.scanner == ScannerKind::kFull) {
-    body = body_gait_model::eval::scanBodyWithFullScanner(spec);
+    body_gait_model::eval::FullScannerOptions full;
+    full.body = options.body;
+    body = body_gait_model::eval::scanBodyWithFullScanner(spec, full);
   } else {
     body_gait_model::eval::ScanRig rig;
     rig.columns = options.sampler_columns;
     rig.rows = options.sampler_columns * 13 / 16;  // the rig's default aspect (320 x 260)
     rig.noise_sigma = options.sampler_noise;
+    rig.body = options.body;
     body = body_gait_model::eval::sampleBody(spec, rig);
   }
   const body_gait_model::BodyFit fit = body_gait_model::fitBody(body.points);

@@ -3,7 +3,10 @@
 //
 //   services  ~enroll (EnrollSubject), ~identify (Identify), ~remove (RemoveSubject),
 //             ~list (ListSubjects)
-//   topics    /body_gait/model (BodyModel) in -> /body_gait/identity (Identity) out
+//   topics    /body_gait/model (BodyModel) in -> /body_gait/identity (Identity) out: every model
+//             as a scan (kind SCAN), and a walk's 4 models (same walk_id, pose_index 1..4) once
+//             all are in as a walk (kind WALK: its gait cycle against the gallery,
+//             walk_identification.h)
 //   params    ~database (default $ROS_HOME/gait_gallery.db), ~feature_set (dynamic_static |
 //             dynamic), ~view (3d | frontal | side), ~accept_threshold (score, eq 5.16, at or
 //             below which a match is accepted; default 4.5: the equal-error threshold of 3D
@@ -12,7 +15,10 @@
 //             ~busy_timeout (s, waiting for another writer), ~feature_noise (a feature noise
 //             file, feature_noise_file.h: weighs each 3D component by its between / within-
 //             subject SD; empty = eq 5.16 unweighted), ~walk_body (mean | median: a walk's body
-//             measures at enrolment, eq 5.13's mean or the median of the four fits)
+//             measures at enrolment, eq 5.13's mean or the median of the four fits; also
+//             applied to an identified walk), ~walk_accept_threshold (a walk's score at or below
+//             which it is accepted; default 15.5: FPIR 0 % at FNIR 5 % for walks with the
+//             recognition.launch features, README), ~ranks (5: subjects listed, best first)
 //
 // A database that cannot be opened (corrupt, locked, newer schema) is reported once at start
 // and in every service reply; the node keeps running and tries the file again on the next
@@ -20,7 +26,9 @@
 #include <body_gait_id/enrollment.h>
 #include <body_gait_id/feature_noise_file.h>
 #include <body_gait_id/gallery_database.h>
+#include <body_gait_id/walk_identification.h>
 #include <body_gait_model/ros/body_model_msg.h>
+#include <body_gait_model/walk_collector.h>
 #include <body_scan_msgs/EnrollSubject.h>
 #include <body_scan_msgs/Identify.h>
 #include <body_scan_msgs/Identity.h>
@@ -37,6 +45,9 @@ namespace body_gait_id {
 // Equal-error threshold of 3D dynamic + static features (evaluate_gait_id --protocol cross-walk
 // --subjects 20 --scanner sampler: eer_threshold 4.53, EER 11.8 %).
 constexpr double kDefaultAcceptThreshold = 4.5;
+// Open-set threshold of a walk's mean score with the recognition.launch defaults (dynamic +
+// static + shape, noise weights, median body): FPIR 0 % at FNIR 5 % (README).
+constexpr double kDefaultWalkAcceptThreshold = 15.5;
 
 class GaitIdNode {
  public:
@@ -45,6 +56,9 @@ class GaitIdNode {
     busy_timeout_ =
         std::chrono::milliseconds(static_cast<int>(1000 * pnh.param<double>("busy_timeout", 2.0)));
     accept_threshold_ = pnh.param<double>("accept_threshold", kDefaultAcceptThreshold);
+    walk_accept_threshold_ =
+        pnh.param<double>("walk_accept_threshold", kDefaultWalkAcceptThreshold);
+    ranks_ = std::max(1, pnh.param("ranks", 5));
     try {
       set_ = parseFeatureSet(pnh.param<std::string>("feature_set", "dynamic_static"));
       view_ = parseView(pnh.param<std::string>("view", "3d"));
@@ -65,9 +79,11 @@ class GaitIdNode {
     }
     try {
       database();
-      ROS_INFO("gait gallery '%s': %zu subjects; %s features, %s view, accept score <= %.2f",
-               path_.c_str(), database().subjects().size(), featureSetName(set_), viewName(view_),
-               accept_threshold_);
+      ROS_INFO(
+          "gait gallery '%s': %zu subjects; %s features, %s view, accept score <= %.2f (scans), "
+          "<= %.2f (walks)",
+          path_.c_str(), database().subjects().size(), featureSetName(set_), viewName(view_),
+          accept_threshold_, walk_accept_threshold_);
     } catch (const std::exception& e) {
       ROS_ERROR("%s", e.what());
     }
@@ -96,14 +112,18 @@ class GaitIdNode {
     Match match;
     std::string name;
   };
-  Answer identify(const body_scan_msgs::BodyModel& model) {
+  // The matcher of the current gallery, rebuilt after every enrolment or removal (the gallery
+  // and its statistics changed).
+  const Matcher& matcher() {
     if (!matcher_) {
-      // Rebuilt after every enrolment or removal (the gallery and its statistics changed).
       matcher_.emplace(database().matcher(set_, view_, noise_ ? &*noise_ : nullptr));
       names_.clear();
       for (const Subject& s : database().subjects()) names_[s.id] = s.info.name;
     }
-    const Match match = matcher_->identify(gaitFeatures(body_gait_model::fromMsg(model), view_));
+    return *matcher_;
+  }
+  Answer identify(const body_scan_msgs::BodyModel& model) {
+    const Match match = matcher().identify(gaitFeatures(body_gait_model::fromMsg(model), view_));
     return {match, names_[match.subject_id]};
   }
 
@@ -118,8 +138,10 @@ class GaitIdNode {
       res.pose_count = static_cast<int>(poses.size());
       res.success = true;
       matcher_.reset();
-      ROS_INFO("enrolled '%s' as subject %ld (%d poses)", req.name.c_str(),
-               static_cast<long>(res.subject_id), res.pose_count);
+      // Names are personal data: above DEBUG the logs carry subject ids only.
+      ROS_INFO("enrolled subject %ld (%d poses)", static_cast<long>(res.subject_id),
+               res.pose_count);
+      ROS_DEBUG("subject %ld is '%s'", static_cast<long>(res.subject_id), req.name.c_str());
     } catch (const GalleryError& e) {
       res.message = e.what();
       reset(e);
@@ -166,6 +188,9 @@ class GaitIdNode {
     } catch (const GalleryError& e) {
       res.message = e.what();
       reset(e);
+    } catch (const std::exception& e) {
+      res.message = e.what();
+      ROS_ERROR("%s", res.message.c_str());
     }
     return true;
   }
@@ -183,6 +208,9 @@ class GaitIdNode {
     } catch (const GalleryError& e) {
       res.message = e.what();
       reset(e);
+    } catch (const std::exception& e) {
+      res.message = e.what();
+      ROS_ERROR("%s", res.message.c_str());
     }
     return true;
   }
@@ -191,21 +219,96 @@ class GaitIdNode {
     try {
       body_scan_msgs::Identity identity;
       identity.header = msg->header;
+      identity.kind = body_scan_msgs::Identity::SCAN;
+      identity.walk_id = msg->walk_id;
+      identity.scan_id = msg->scan_id;
+      identity.pose_index = msg->pose_index;
       fillIdentity(identify(*msg), identity);
+      identity.threshold = accept_threshold_;
+      const std::vector<Match> ranked =
+          matcher().rankSubjects(gaitFeatures(body_gait_model::fromMsg(*msg), view_));
+      for (std::size_t i = 0; i < ranked.size() && i < static_cast<std::size_t>(ranks_); ++i)
+        addRank(identity, ranked[i].subject_id, ranked[i].score);
       identity_pub_.publish(identity);
-      ROS_INFO("identified: subject %ld '%s', sequence %d, frame %d, score %.3f (%s)",
-               static_cast<long>(identity.subject_id), identity.name.c_str(), identity.sequence,
+      ROS_INFO("identified %s: subject %ld, sequence %d, frame %d, score %.3f (%s)",
+               scanName(*msg).c_str(), static_cast<long>(identity.subject_id), identity.sequence,
                identity.frame, identity.score, identity.accepted ? "accepted" : "rejected");
     } catch (const GalleryError& e) {
       reset(e);
-    } catch (const std::exception& e) {
+    } catch (const std::exception& e) {  // fromMsg names the bad field
       ROS_ERROR_THROTTLE(5.0, "model on body_gait/model not identified: %s", e.what());
+    } catch (...) {
+      ROS_ERROR_THROTTLE(5.0, "model on body_gait/model not identified: unknown error");
+    }
+    if (msg->walk_id != 0) collectWalk(msg);
+  }
+
+  static std::string scanName(const body_scan_msgs::BodyModel& model) {
+    std::string name = "scan " + std::to_string(model.scan_id);
+    if (model.walk_id != 0)
+      name += " (walk " + std::to_string(model.walk_id) + " pose " +
+              std::to_string(model.pose_index) + ")";
+    return name;
+  }
+
+  void addRank(body_scan_msgs::Identity& identity, std::int64_t subject_id, double score) {
+    identity.ranked_subject_ids.push_back(subject_id);
+    identity.ranked_names.push_back(names_[subject_id]);
+    identity.ranked_scores.push_back(score);
+  }
+
+  // A walk's models as they come; the walk is identified once its 4 poses are in.
+  void collectWalk(const body_scan_msgs::BodyModel::ConstPtr& msg) {
+    std::optional<body_gait_model::WalkCollector<body_scan_msgs::BodyModel::ConstPtr>::Walk> walk;
+    try {
+      walk = walks_.add(msg->walk_id, msg->pose_index, msg);
+    } catch (const std::invalid_argument& e) {
+      ROS_ERROR("%s: not collected into a walk", e.what());
+      return;
+    }
+    for (std::uint32_t dropped : walks_.takeDropped())
+      ROS_WARN("walk %u dropped before all %d poses arrived (a newer walk started)", dropped,
+               body_gait_model::kWalkPoses);
+    if (!walk) return;
+    try {
+      std::vector<body_gait_model::BodyModel> models;
+      for (const auto& pose : *walk) models.push_back(body_gait_model::fromMsg(*pose));
+      const body_gait_model::RepresentativePoses s = representativePoses(models);
+      const std::vector<WalkMatch> ranked =
+          rankWalk(matcher(), median_body_ ? withMedianBody(s) : s, view_);
+      if (ranked.empty()) throw std::runtime_error("the gallery is empty: enrol people first");
+      body_scan_msgs::Identity identity;
+      identity.header = walk->back()->header;
+      identity.kind = body_scan_msgs::Identity::WALK;
+      identity.walk_id = msg->walk_id;
+      identity.subject_id = ranked[0].subject_id;
+      identity.name = names_[ranked[0].subject_id];
+      identity.sequence = -1;
+      identity.frame = 0;
+      identity.score = ranked[0].score;
+      identity.threshold = walk_accept_threshold_;
+      identity.accepted = identity.score <= walk_accept_threshold_;
+      for (std::size_t i = 0; i < ranked.size() && i < static_cast<std::size_t>(ranks_); ++i)
+        addRank(identity, ranked[i].subject_id, ranked[i].score);
+      identity_pub_.publish(identity);
+      ROS_INFO("identified walk %u: subject %ld, score %.3f (%s)", identity.walk_id,
+               static_cast<long>(identity.subject_id), identity.score,
+               identity.accepted ? "accepted" : "rejected: unknown person");
+    } catch (const GalleryError& e) {
+      reset(e);
+    } catch (const std::exception& e) {
+      ROS_ERROR("walk %u not identified: %s", msg->walk_id, e.what());
+    } catch (...) {  // nothing may escape into the node's spinner
+      ROS_ERROR("walk %u not identified: unknown error", msg->walk_id);
     }
   }
 
   std::string path_;
   std::chrono::milliseconds busy_timeout_{2000};
   double accept_threshold_ = kDefaultAcceptThreshold;
+  double walk_accept_threshold_ = kDefaultWalkAcceptThreshold;
+  int ranks_ = 5;
+  body_gait_model::WalkCollector<body_scan_msgs::BodyModel::ConstPtr> walks_;
   FeatureSet set_ = FeatureSet::kDynamicStatic;
   View view_ = View::k3D;
   std::unique_ptr<GalleryDatabase> db_;

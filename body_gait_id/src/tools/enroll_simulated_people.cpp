@@ -9,6 +9,7 @@
 //   enroll_simulated_people --database FILE [--people N] [--trial T] [--seed S]
 //       [--scanner full|sampler|truth] [--cache DIR] [--threads T] [--walk-body median|mean]
 //       [--scene-out FILE.yaml --scene-person K --scene-trial T --scene-pose P]
+//       [--walk-scenes DIR]   (all 4 poses of that walk: DIR/pose_1.yaml .. pose_4.yaml)
 #include <body_gait_id/enrollment.h>
 #include <body_gait_id/eval/gait_id_evaluation.h>
 #include <body_gait_model/eval/gait_subjects.h>
@@ -16,7 +17,9 @@
 #include <body_scan_driver/tools/command_line.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include "scanner_choices.h"
@@ -49,16 +52,16 @@ int main(int argc, char** argv) {
       "of walk --trial scanned and fitted, enrolled as the eta1 and eta2 training cycles) and "
       "writes a scene file of one of them on another walk: what make demo scans and identifies.",
       "enroll_simulated_people");
-  std::string database_path, scene_path;
+  std::string database_path, scene_path, walk_scenes;
   int people_count = 6, trial = 0, scene_person = 0, scene_trial = 1, scene_pose = 1;
   std::uint32_t seed = 1;
   eval::ScanOptions scan;
   scan.scanner = eval::ScannerKind::kFull;
   bool median_body = true;
   app.add_option("--database", database_path, "gallery database (SQLite)")->required();
-  app.add_option("--people", people_count, "simulated people")
+  app.add_option("--people", people_count, "simulated people (0: only write scenes)")
       ->capture_default_str()
-      ->check(tools::atLeast(1));
+      ->check(tools::atLeast(0));
   app.add_option("--trial", trial, "the enrolled walk (numbered from 0)")
       ->capture_default_str()
       ->check(tools::atLeast(0));
@@ -73,10 +76,13 @@ int main(int argc, char** argv) {
   tools::addChoice(app, "--walk-body", median_body, {{"median", true}, {"mean", false}},
                    "a walk's body measures (gait_id_node's ~walk_body)");
   app.add_option("--scene-out", scene_path, "write the scene of one person's walk (YAML)");
-  auto* person_option =
-      app.add_option("--scene-person", scene_person, "the scene's person (0 .. --people - 1)")
-          ->capture_default_str()
-          ->check(tools::atLeast(0));
+  app.add_option("--walk-scenes", walk_scenes,
+                 "write the scenes of all 4 poses of that walk into this folder (pose_1.yaml .. "
+                 "pose_4.yaml: a simulated walk session, launch/scripts/simulated_walker)");
+  app.add_option("--scene-person", scene_person,
+                 "the scene's person (from --people on: not enrolled, a stranger)")
+      ->capture_default_str()
+      ->check(tools::atLeast(0));
   app.add_option("--scene-trial", scene_trial, "the scene's walk (numbered from 0)")
       ->capture_default_str()
       ->check(tools::atLeast(0));
@@ -84,24 +90,30 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(1, 4));
   if (const auto status = tools::parseCommandLine(app, argc, argv)) return *status;
-  if (scene_person >= people_count) {
-    std::fprintf(stderr,
-                 "enroll_simulated_people: %s must be 0..%d\nRun with --help for more "
-                 "information.\n",
-                 person_option->get_name().c_str(), people_count - 1);
-    return 2;
-  }
-
-  const std::vector<body_gait_model::eval::SimulatedPerson> persons =
-      body_gait_model::eval::simulatedPeople(people_count, seed);
+  // Person i is the same whatever the count (simulatedPeople), so a scene person from --people
+  // on is someone the gallery does not hold.
+  std::vector<body_gait_model::eval::SimulatedPerson> persons =
+      body_gait_model::eval::simulatedPeople(std::max(people_count, scene_person + 1), seed);
+  const body_gait_model::eval::SimulatedPerson scene_subject = persons[scene_person];
+  persons.resize(people_count);
   try {
     if (!scene_path.empty()) {
       // Facing the rig's front (heading 0), as the demo's walking subject does.
       body_scan_driver::writeFileAtomically(
-          scene_path, sceneFile(body_gait_model::eval::walkingSubject(
-                          persons[scene_person], scene_pose, scene_trial, 0.0)));
-      std::printf("scene: %s walk %d pose %d -> %s\n", persons[scene_person].name.c_str(),
-                  scene_trial, scene_pose, scene_path.c_str());
+          scene_path, sceneFile(body_gait_model::eval::walkingSubject(scene_subject, scene_pose,
+                                                                      scene_trial, 0.0)));
+      std::printf("scene: %s walk %d pose %d -> %s\n", scene_subject.name.c_str(), scene_trial,
+                  scene_pose, scene_path.c_str());
+    }
+    if (!walk_scenes.empty()) {
+      std::filesystem::create_directories(walk_scenes);
+      for (int pose = 1; pose <= 4; ++pose)
+        body_scan_driver::writeFileAtomically(
+            walk_scenes + "/pose_" + std::to_string(pose) + ".yaml",
+            sceneFile(
+                body_gait_model::eval::walkingSubject(scene_subject, pose, scene_trial, 0.0)));
+      std::printf("walk scenes: %s walk %d poses 1-4 -> %s/pose_1.yaml .. pose_4.yaml\n",
+                  scene_subject.name.c_str(), scene_trial, walk_scenes.c_str());
     }
     eval::PersonSource source;
     for (const auto& person : persons) source.names.push_back(person.name);

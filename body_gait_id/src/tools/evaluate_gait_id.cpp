@@ -4,6 +4,7 @@
 // report and a CMC / ROC plot.
 //
 //   evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N] [--scanner sampler|full|truth]
+//                    [--body ellipsoid|mesh]
 //                    [--columns C] [--noise SIGMA_M] [--threads T] [--cache DIR] [--seed S]
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
 //                    [--probe-frames interpolated|all|scans] [--per-walk] [--gallery-walks N]
@@ -19,6 +20,8 @@
 // body_scan_driver's pickGaitPoses finds; PERSON defaults to the file name up to its first '_'
 // (CMU: 07_02.bvh -> 07). --bvh-map: the joint map (default: the CMU map of body_scan_driver).
 //
+// --body mesh scans the skinned mesh human (body_scan_driver/sim/mesh_human.h) posed the same
+// way instead of the ellipsoid body; its fits are cached apart.
 // --scanner truth skips scan and fit (models read off the simulator's skeleton): the upper
 // bound of the features on these people, to tell the fitter's share of the errors.
 // --gallery-walks N (cross-walk): enrol every person from walks 0 .. N - 1 (eta1 + eta2 of each),
@@ -108,6 +111,10 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& s) {
   app.add_option("--threads", s.scan.threads, "scans in parallel")
       ->capture_default_str()
       ->check(tools::inRange(1, 16));
+  tools::addChoice(app, "--body", s.scan.body,
+                   {{"ellipsoid", body_gait_model::eval::BodyKind::kEllipsoid},
+                    {"mesh", body_gait_model::eval::BodyKind::kMesh}},
+                   "the simulated body: ellipsoid (default) or the skinned mesh human");
   app.add_option("--cache", s.scan.cache_folder, "fit cache folder (fits are reused)");
   app.add_option("--seed", s.seed, "seed of the simulated people")->capture_default_str();
   tools::addChoice(app, "--transform", s.transform.kind,

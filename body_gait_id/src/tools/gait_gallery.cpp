@@ -3,22 +3,28 @@
 #include <body_gait_id/feature_noise_file.h>
 #include <body_gait_id/gallery_database.h>
 #include <body_gait_id/models_file.h>
+#include <body_scan_driver/atomic_file.h>
+#include <body_gait_id/walk_identification.h>
 #include <body_scan_driver/tools/command_line.h>
 
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
+#include <sstream>
+
+#include "walk_bag.h"
 
 namespace {
 
 // The command line: one subcommand and its options (see --help).
 struct Arguments {
   std::string command, database;
-  std::string name, gender, models, walk_body = "mean", format = "yaml", output, view = "3d",
-                                    feature_set = "dynamic_static", feature_noise;
+  std::string name, gender, models, bag, walk_body = "mean", format = "yaml", output, view = "3d",
+                                         feature_set = "dynamic_static", feature_noise;
   int age = 0;
+  std::uint32_t walk_id = 0;
+  double walk_threshold = 15.5;
   std::vector<std::string> scans;
   std::int64_t subject_id = 0;
 };
@@ -38,7 +44,11 @@ std::optional<int> parse(int argc, char** argv, Arguments& args) {
   enroll->add_option("--name", args.name, "the person's name")->required();
   enroll->add_option("--gender", args.gender, "the person's gender");
   enroll->add_option("--age", args.age, "age in years")->check(body_scan_driver::tools::atLeast(0));
-  enroll->add_option("--models", args.models, "the 4 fitted poses (YAML)")->required();
+  auto* enroll_models = enroll->add_option("--models", args.models, "the 4 fitted poses (YAML)");
+  auto* enroll_bag = enroll->add_option(
+      "--bag", args.bag, "a recorded walk session (record.launch): its 4 fitted models");
+  enroll_models->excludes(enroll_bag);
+  enroll->add_option("--walk", args.walk_id, "--bag: the walk id (default: the last complete)");
   enroll->add_option("--scan", args.scans, "a scan of the person to keep with them (repeat)");
   enroll
       ->add_option("--walk-body", args.walk_body,
@@ -57,7 +67,23 @@ std::optional<int> parse(int argc, char** argv, Arguments& args) {
       "identify",
       "nearest gallery pose of every model in the file; with a noise file (evaluate_gait_id "
       "--write-noise) each component weighted by between / within SD");
-  identify->add_option("--models", args.models, "the models to identify (YAML)")->required();
+  auto* identify_models =
+      identify->add_option("--models", args.models, "the models to identify (YAML)");
+  auto* identify_bag = identify->add_option(
+      "--bag", args.bag,
+      "a recorded walk session: its 4 scans one by one, then the walk (its gait cycle against "
+      "the gallery, one decision)");
+  identify_models->excludes(identify_bag);
+  identify->add_option("--walk", args.walk_id, "--bag: the walk id (default: the last complete)");
+  identify
+      ->add_option("--walk-body", args.walk_body,
+                   "--bag: the walk's body measures, the mean of the 4 fits or their median")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"mean", "median"}));
+  identify
+      ->add_option("--walk-threshold", args.walk_threshold,
+                   "--bag: the largest accepted walk score (gait_id_node's ~walk_accept_threshold)")
+      ->capture_default_str();
   identify
       ->add_option("--feature-set", args.feature_set,
                    "dynamic, dynamic_static or dynamic_static_shape")
@@ -72,6 +98,14 @@ std::optional<int> parse(int argc, char** argv, Arguments& args) {
     return 2;
   }
   args.command = app.get_subcommands().front()->get_name();
+  if ((args.command == "enroll" || args.command == "identify") && args.models.empty() &&
+      args.bag.empty()) {
+    std::fprintf(stderr,
+                 "gait_gallery %s: give the models, --models FILE.yaml or --bag WALK.bag\nRun "
+                 "with --help for more information.\n",
+                 args.command.c_str());
+    return 2;
+  }
   return std::nullopt;
 }
 
@@ -92,10 +126,21 @@ int run(const Arguments& args) {
   }
   if (args.command == "enroll") {
     const SubjectInfo info{args.name, args.gender, args.age};
-    const body_gait_model::RepresentativePoses s = representativePoses(readBodyModels(args.models));
+    std::vector<std::string> scans = args.scans;
+    std::vector<body_gait_model::BodyModel> models;
+    if (!args.bag.empty()) {
+      const tools::RecordedWalk walk = tools::readWalkFromBag(args.bag, args.walk_id);
+      models = walk.poses;
+      scans.push_back(args.bag + " (walk " + std::to_string(walk.walk_id) + ")");
+      std::printf("walk %u of %s: scans %u %u %u %u\n", walk.walk_id, args.bag.c_str(),
+                  walk.scan_ids[0], walk.scan_ids[1], walk.scan_ids[2], walk.scan_ids[3]);
+    } else {
+      models = readBodyModels(args.models);
+    }
+    const body_gait_model::RepresentativePoses s = representativePoses(models);
     const std::vector<PoseRecord> poses =
         trainingPoses(args.walk_body == "median" ? withMedianBody(s) : s);
-    const std::int64_t id = db.enroll(info, args.scans, poses);
+    const std::int64_t id = db.enroll(info, scans, poses);
     std::printf("enrolled '%s' as subject %ld (%zu poses) in %s\n", info.name.c_str(),
                 static_cast<long>(id), poses.size(), db.path().c_str());
     return 0;
@@ -113,17 +158,17 @@ int run(const Arguments& args) {
   if (args.command == "export") {
     const std::string& format = args.format;
     const std::string& output = args.output;
-    std::ofstream file;
-    if (!output.empty()) {
-      file.open(output);
-      if (!file) throw std::runtime_error("cannot write '" + output + "': check the directory");
-    }
-    std::ostream& out = output.empty() ? std::cout : file;
+    std::ostringstream text;
     if (format == "csv")
-      exportGalleryCsv(db, out);
+      exportGalleryCsv(db, text);
     else
-      exportGalleryYaml(db, out);
-    if (!out) throw std::runtime_error("writing the export failed (disk full?)");
+      exportGalleryYaml(db, text);
+    if (output.empty()) {
+      std::cout << text.str();
+      if (!std::cout) throw std::runtime_error("writing the export failed (disk full?)");
+    } else {  // names and biometrics: readable by the owner only, like the gallery
+      body_scan_driver::writeFileAtomically(output, text.str(), /*owner_only=*/true);
+    }
     return 0;
   }
   if (args.command == "identify") {
@@ -134,12 +179,29 @@ int run(const Arguments& args) {
         db.matcher(parseFeatureSet(args.feature_set), view, noise ? &*noise : nullptr);
     std::map<std::int64_t, std::string> names;
     for (const Subject& s : db.subjects()) names[s.id] = s.info.name;
-    const std::vector<body_gait_model::BodyModel> models = readBodyModels(args.models);
+    std::optional<tools::RecordedWalk> walk;
+    if (!args.bag.empty()) walk = tools::readWalkFromBag(args.bag, args.walk_id);
+    const std::vector<body_gait_model::BodyModel> models =
+        walk ? walk->poses : readBodyModels(args.models);
     for (std::size_t i = 0; i < models.size(); ++i) {
       const Match m = matcher.identify(gaitFeatures(models[i], view));
       std::printf("pose %zu: subject %ld '%s', sequence %d, frame %d, score %.4f\n", i + 1,
                   static_cast<long>(m.subject_id), names[m.subject_id].c_str(), m.sequence, m.frame,
                   m.score);
+    }
+    if (walk) {
+      const body_gait_model::RepresentativePoses s = representativePoses(walk->poses);
+      const std::vector<WalkMatch> ranked =
+          rankWalk(matcher, args.walk_body == "median" ? withMedianBody(s) : s, view);
+      if (ranked.empty()) throw std::runtime_error("the gallery is empty: enrol people first");
+      const bool accepted = ranked[0].score <= args.walk_threshold;
+      std::printf("walk %u: subject %ld '%s', score %.4f, %s (walk threshold %.2f)\n",
+                  walk->walk_id, static_cast<long>(ranked[0].subject_id),
+                  names[ranked[0].subject_id].c_str(), ranked[0].score,
+                  accepted ? "accepted" : "rejected: unknown person", args.walk_threshold);
+      for (std::size_t i = 0; i < ranked.size() && i < 5; ++i)
+        std::printf("  rank %zu: '%s' %.4f\n", i + 1, names[ranked[i].subject_id].c_str(),
+                    ranked[i].score);
     }
     return 0;
   }

@@ -36,6 +36,15 @@ struct FitQualityOptions {
   int max_points = 100000;
 };
 
+// Knees on bent legs (placeBentKneeAndSole in body_fitter.cpp): where the thigh's and shank's
+// lines meet when they bend by more than clear_deg, the proportion below straight_deg, blended
+// in between; soles from the points within the shank's radius + sole_margin of its line.
+struct BentKneeOptions {
+  bool enabled = false;
+  double straight_deg = 15, clear_deg = 25;
+  double sole_margin = 0.03;  // m
+};
+
 struct FitOptions {
   BodyAxesOptions axes;
   TorsoOptions torso;
@@ -44,10 +53,14 @@ struct FitOptions {
   // (the model has none): on simulated subjects 33 -> 30 mm mean joint error.
   bool refine = true;
   RefinementOptions refinement;
+  // Every joint angle stays within these (direct fit and refinement): walking ranges by
+  // default (a real swing knee flexes to 60-70 deg), thesisJointLimits() for Table 5.2's.
+  JointLimitSet joint_limits = walkingJointLimits();
   double foot_height = 0.06;  // * body height above the lowest point: left out of refinement
   // Elbow and knee are searched within +- this fraction of the proximal-joint-to-tip length
   // around the standard proportion (Drillis & Contini).
   double arm_split_window = 0.12, leg_split_window = 0.12;
+  BentKneeOptions bent_knee;
   double limb_track_radius = 0.06;  // m: an arm's next slice lies within this of its centre
   // Hip joint centres above the lowest point, * body height (Drillis & Contini: 0.53). They lie
   // inside the pelvis, so the surface alone does not show them; the thigh line gives x and z.
@@ -65,6 +78,9 @@ struct FitQuality {
   std::array<int, kSegmentCount> points_per_segment{};  // nearest-segment assignment
   bool low_quality = false;
   std::string reason;  // why it is low quality (empty if not)
+  // Every joint angle of the fit that sits on a bound of FitOptions::joint_limits (the body
+  // may bend further than the set allows); reported, not a reason for low_quality.
+  std::vector<std::string> limits_reached;
 };
 
 // Joint points found directly by the line fits (world frame), before the model's tree imposes
@@ -88,6 +104,19 @@ struct BodyFit {
 // torso profile, missing limbs or head) or fitted badly comes back with quality.low_quality set
 // and quality.reason saying why.
 BodyFit fitBody(const Cloud& cloud, const FitOptions& options = {});
+
+// The fits of one walk: one BodyFit per scan, in the walk's order.
+struct WalkFit {
+  std::vector<BodyFit> scans;
+  RefinementReport refinement;  // the one refinement of every scan together
+};
+
+// The scans of one walk of one person (e.g. the 4 representative poses of 5.3), fitted together:
+// each scan's direct fit as fitBody's, then one body for all (each segment length, radius and
+// joint offset the median over the scans), then one Ceres refinement of every scan's pose (p, q)
+// with the lengths shared. A scan that is no body at all throws as in fitBody; one shaped unlike
+// a body comes back flagged and stays out of the shared body.
+WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options = {});
 
 // Point-to-surface quality of a model against a cloud (used by fitBody and by evaluation).
 FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,

@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <string>
+#include <vector>
 
 namespace body_gait_model {
 
@@ -42,11 +43,22 @@ struct SegmentInfo {
 };
 const SegmentInfo& segmentInfo(int segment);
 
-// Bounds of a joint's two angles in radians (Table 5.2; the neck's are all zero).
+// Bounds of a joint's two angles in radians (the neck's are all zero).
 struct JointLimits {
   double x_min, x_max, z_min, z_max;
 };
+// Table 5.2's bounds of one joint.
 JointLimits jointLimits(int segment);
+
+// Bounds of every joint, indexed by segment. theta_x > 0 swings a segment's far end backward
+// (knee flexion, hip and shoulder extension), < 0 forward (hip and shoulder flexion, elbow
+// flexion); theta_z swings it toward the left.
+using JointLimitSet = std::array<JointLimits, kSegmentCount>;
+// Table 5.2 (symmetric, knee +-30 deg): the thesis protocol's set.
+const JointLimitSet& thesisJointLimits();
+// Normal level walking from gait biomechanics (knee flexion to 80 deg, hip, shoulder and elbow
+// ranges of gait): the fitter's default; config/body_fitter.yaml lists the values and sources.
+const JointLimitSet& walkingJointLimits();
 
 using PoseVector = Eigen::Matrix<double, 6, 1>;       // p, eq 5.1: tau_x,y,z, theta_x,y,z
 using JointAngles = Eigen::Matrix<double, 22, 1>;     // q, eq 5.2
@@ -119,10 +131,14 @@ Eigen::Vector3d jointOffset(const BodyModel& model, int segment);
 // Forward kinematics of the tree (Table 5.2 parents).
 PosedModel forwardKinematics(const BodyModel& model);
 
-// True if every joint angle lies within Table 5.2 (the neck's must be zero).
-bool withinJointLimits(const BodyModel& model);
-// The model with every joint angle clamped into Table 5.2.
-BodyModel clampToJointLimits(BodyModel model);
+// True if every joint angle lies within the limits (the neck's must be zero).
+bool withinJointLimits(const BodyModel& model, const JointLimitSet& limits = thesisJointLimits());
+// The model with every joint angle clamped into the limits.
+BodyModel clampToJointLimits(BodyModel model, const JointLimitSet& limits = thesisJointLimits());
+// Every joint angle within `tolerance` (rad) of one of its bounds, named like
+// "right_lower_leg theta_x at its max 80 deg".
+std::vector<std::string> jointLimitsReached(const BodyModel& model, const JointLimitSet& limits,
+                                            double tolerance = 0.01);
 
 // Distance from a point to the lateral surface of a tapered cylinder whose axis runs from
 // proximal (radius r0) to distal (radius r1): in the half-plane (axial, radial) through the

@@ -1,10 +1,12 @@
 // Refinement of the whole model (after 5.5's direct fits): p, q and r minimize the robust
-// point-to-surface distance of the cloud to the tapered cylinders, q within Table 5.2. Ceres
+// point-to-surface distance of the cloud to the tapered cylinders, q within the joint limits. Ceres
 // stays inside refinement.cpp.
 #pragma once
 
 #include <body_gait_model/body_axes.h>
 #include <body_gait_model/kinematic_model.h>
+
+#include <vector>
 
 namespace body_gait_model {
 
@@ -18,6 +20,9 @@ struct RefinementOptions {
   // it does not find them (with a whole pole missing a wrong direct fit let an upper arm run
   // away to 5 m).
   double max_length_change = 0.3;
+  // A single scan's thighs keep the direct fit's length (a straight leg's knee fits the surface
+  // anywhere along its line); in a walk they are refined unless this is set.
+  bool hold_thighs_in_walks = false;
 };
 
 struct RefinementReport {
@@ -29,6 +34,14 @@ struct RefinementReport {
 // of the free ends (head, lower arms, lower legs), of the lower torso and of the upper legs (hips
 // and knees as the direct fit placed them) stay fixed.
 RefinementReport refineModel(BodyModel& model, const Cloud& cloud,
-                             const RefinementOptions& options = {});
+                             const RefinementOptions& options = {},
+                             const JointLimitSet& limits = walkingJointLimits());
+
+// The scans of one walk refined together: each model keeps its own pose (p, q) against its own
+// cloud, all share one set of lengths and one shape (the first model's; every model gets them
+// back). Ceres, one problem. Throws std::invalid_argument when the counts differ.
+RefinementReport refineWalk(std::vector<BodyModel>& models, const std::vector<const Cloud*>& clouds,
+                            const RefinementOptions& options = {},
+                            const JointLimitSet& limits = walkingJointLimits());
 
 }  // namespace body_gait_model

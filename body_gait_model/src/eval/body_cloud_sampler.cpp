@@ -1,10 +1,16 @@
 // Ray-cast whole-body clouds from the simulator's Scene (tests and evaluation only).
 #include <body_gait_model/eval/body_cloud_sampler.h>
+#include <body_scan_driver/sim/data_paths.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <random>
 #include <stdexcept>
+#include <tuple>
 
 namespace body_gait_model::eval {
 
@@ -15,14 +21,57 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegree = kPi / 180.0;
 }  // namespace
 
+BodyKind parseBodyKind(const std::string& name) {
+  if (name == "ellipsoid") return BodyKind::kEllipsoid;
+  if (name == "mesh") return BodyKind::kMesh;
+  throw std::invalid_argument("unknown body '" + name + "': use mesh or ellipsoid");
+}
+
+const char* bodyKindName(BodyKind kind) { return kind == BodyKind::kMesh ? "mesh" : "ellipsoid"; }
+
+sim::MeshPersonSpec meshPersonOf(const sim::HumanBodySpec& spec) {
+  const sim::Anthropometry& b = spec.body;
+  const sim::Anthropometry standard = sim::Anthropometry::fromStature(b.stature);
+  sim::MeshPersonSpec person;
+  person.stature = std::clamp(b.stature, 1.45, 2.05);
+  const bool female = b.hip_girth > 1.05 * b.chest_girth;
+  person.gender = female ? 0 : 1;
+  const double build = b.waist_girth / standard.waist_girth;
+  person.bmi = std::clamp((female ? 21.0 : 22.0) * build * build, 17.0, female ? 23.5 : 28.0);
+  person.age = 30;
+  return person;
+}
+
+sim::HumanBodySpec addSimulatedBody(const sim::HumanBodySpec& spec, BodyKind kind,
+                                    sim::Scene& scene) {
+  if (kind == BodyKind::kEllipsoid) {
+    sim::addHumanBody(spec, scene);
+    return spec;
+  }
+  const sim::MeshPersonSpec person = meshPersonOf(spec);
+  static std::mutex mutex;
+  static std::map<std::tuple<double, double, double>, std::shared_ptr<const sim::MeshHumanRig>>
+      rigs;
+  std::shared_ptr<const sim::MeshHumanRig> rig;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    auto& cached = rigs[{person.stature, person.gender, person.bmi}];
+    if (!cached) cached = sim::meshHumanRig(person, sim::meshHumanFiles());
+    rig = cached;
+  }
+  sim::HumanBodySpec placed = spec;
+  if (!placed.segment_frames) placed.body = rig->anthropometry();
+  sim::addMeshHuman(*rig, placed, scene);
+  return placed;
+}
+
 SampledBody sampleBody(const sim::HumanBodySpec& spec, const ScanRig& rig) {
   if (rig.poles < 1 || rig.heights.empty() || rig.columns < 2 || rig.rows < 2)
     throw std::invalid_argument(
         "body cloud sampler: the rig needs >= 1 pole, >= 1 height and a ray grid of >= 2 x 2");
   sim::Scene scene;
-  sim::addHumanBody(spec, scene);
   SampledBody body;
-  body.spec = spec;
+  body.spec = addSimulatedBody(spec, rig.body, scene);
   body.skeleton = scene.skeleton();
   for (const auto& surface : scene.surfaces()) body.surface_names.push_back(surface->name);
 
@@ -50,7 +99,7 @@ SampledBody sampleBody(const sim::HumanBodySpec& spec, const ScanRig& rig) {
           sim::Hit hit;
           if (!scene.intersect(ray, hit)) continue;
           const Eigen::Vector3d point = ray.origin + hit.distance * ray.direction;
-          if (hit.surface->albedoAt(point) < rig.min_albedo) continue;
+          if (hit.surface->albedoAtHit(hit, point) < rig.min_albedo) continue;
           const double range_noise = rig.noise_sigma > 0 ? noise(random) : 0.0;
           body.points.push_back(point + range_noise * ray.direction);
           body.surface_of_point.push_back(hit.surface_index);
@@ -145,7 +194,10 @@ FitErrors compareWithTruth(const BodyModel& model, const SampledBody& body) {
   const Eigen::Vector3d front(std::cos(heading), std::sin(heading), 0);
   const Eigen::Vector3d left(-std::sin(heading), std::cos(heading), 0);
   FitErrors errors;
+  std::vector<Eigen::Vector3d> fitted_joints, true_joints;
   auto addJoint = [&](const std::string& name, const Eigen::Vector3d& true_position) {
+    fitted_joints.push_back(posed.joint(name));
+    true_joints.push_back(true_position);
     const Eigen::Vector3d offset = posed.joint(name) - true_position;
     errors.joint_error[name] = offset.norm();
     errors.joint_offset[name] = Eigen::Vector3d(offset.dot(front), offset.dot(left), offset.z());
@@ -189,6 +241,15 @@ FitErrors compareWithTruth(const BodyModel& model, const SampledBody& body) {
     return values.empty() ? 0.0 : sum / values.size();
   };
   errors.mean_joint_error = average(errors.joint_error);
+  // Procrustes: the rigid motion (Kabsch) that best lays the fitted joints on the true ones.
+  const Eigen::Matrix3Xd fitted_matrix =
+      Eigen::Map<const Eigen::Matrix3Xd>(fitted_joints[0].data(), 3, fitted_joints.size());
+  const Eigen::Matrix3Xd true_matrix =
+      Eigen::Map<const Eigen::Matrix3Xd>(true_joints[0].data(), 3, true_joints.size());
+  const Eigen::Matrix4d alignment = Eigen::umeyama(fitted_matrix, true_matrix, false);
+  const Eigen::Matrix3Xd aligned = (alignment.topLeftCorner<3, 3>() * fitted_matrix).colwise() +
+                                   alignment.topRightCorner<3, 1>();
+  errors.procrustes_joint_error = (aligned - true_matrix).colwise().norm().mean();
   errors.mean_length_error = average(errors.segment_length_error);
   errors.mean_swing_error = average(errors.swing_error);
   const Eigen::Matrix3d rotation = posed.whole_body.linear();

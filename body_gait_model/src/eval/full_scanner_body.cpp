@@ -66,10 +66,8 @@ SampledBody scanBodyWithFullScanner(const sim::HumanBodySpec& spec,
   floor.color = Eigen::Vector3d::Constant(options.floor_albedo);
   scene->add(
       std::make_unique<sim::Plane>(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), floor, 2.0));
-  sim::addHumanBody(spec, *scene);
-
   SampledBody body;
-  body.spec = spec;
+  body.spec = addSimulatedBody(spec, options.body, *scene);
   body.skeleton = scene->skeleton();
   const body_scan_merge::SimulatedScan scan = body_scan_merge::simulateScan(rig, scene, groups);
   const std::vector<float>& xyzrgb = scan.cloud.xyzrgb;

@@ -37,12 +37,13 @@ std::vector<double> vector(const Eigen::VectorXd& v) { return {v.data(), v.data(
 }  // namespace
 
 Cloud cloudFromMsg(const sensor_msgs::PointCloud2& msg) {
-  int offset[3] = {-1, -1, -1}, type[3] = {0, 0, 0};
+  int64_t offset[3] = {-1, -1, -1};  // 64 bits: a field's offset is any uint32
+  int type[3] = {0, 0, 0};
   const char* names[3] = {"x", "y", "z"};
   for (const auto& field : msg.fields)
     for (int i = 0; i < 3; ++i)
       if (field.name == names[i]) {
-        offset[i] = static_cast<int>(field.offset);
+        offset[i] = field.offset;
         type[i] = field.datatype;
       }
   for (int i = 0; i < 3; ++i) {
@@ -53,15 +54,17 @@ Cloud cloudFromMsg(const sensor_msgs::PointCloud2& msg) {
       throw std::invalid_argument(std::string("the cloud's '") + names[i] +
                                   "' field is not FLOAT32 or FLOAT64");
     const int size = type[i] == sensor_msgs::PointField::FLOAT32 ? 4 : 8;
-    if (offset[i] + size > static_cast<int>(msg.point_step))
-      throw std::invalid_argument("the cloud's point_step is shorter than its fields");
+    if (offset[i] + size > static_cast<int64_t>(msg.point_step))
+      throw std::invalid_argument("the cloud's point_step " + std::to_string(msg.point_step) +
+                                  " is shorter than its '" + names[i] + "' field's end");
   }
   if (msg.is_bigendian)
     throw std::invalid_argument("big-endian clouds are not supported; publish little-endian");
   const size_t count = static_cast<size_t>(msg.width) * msg.height;
-  if (msg.row_step < static_cast<size_t>(msg.width) * msg.point_step ||
-      msg.data.size() < static_cast<size_t>(msg.row_step) * msg.height)
-    throw std::invalid_argument("the cloud's data is shorter than width * height * point_step");
+  if (msg.row_step < static_cast<uint64_t>(msg.width) * msg.point_step)
+    throw std::invalid_argument("the cloud's row_step is less than width * point_step");
+  if (msg.data.size() < static_cast<uint64_t>(msg.row_step) * msg.height)
+    throw std::invalid_argument("the cloud's data is shorter than row_step * height");
   Cloud cloud;
   cloud.reserve(count);
   for (uint32_t row = 0; row < msg.height; ++row)
@@ -137,6 +140,21 @@ BodyModel fromMsg(const body_scan_msgs::BodyModel& msg) {
   check(msg.r, 12, "r");
   check(msg.proximal_radius, 12, "proximal_radius");
   check(msg.distal_radius, 12, "distal_radius");
+  auto finite = [](const std::vector<double>& v, const char* name) {
+    for (size_t i = 0; i < v.size(); ++i)
+      if (!std::isfinite(v[i]))
+        throw std::invalid_argument(std::string("BodyModel.") + name + "[" + std::to_string(i) +
+                                    "] is not finite");
+  };
+  finite(msg.p, "p");
+  finite(msg.q, "q");
+  finite(msg.r, "r");
+  finite(msg.proximal_radius, "proximal_radius");
+  finite(msg.distal_radius, "distal_radius");
+  finite({msg.shoulder_half_width}, "shoulder_half_width");
+  finite({msg.shoulder_drop}, "shoulder_drop");
+  finite({msg.hip_half_width}, "hip_half_width");
+  finite({msg.hip_rise}, "hip_rise");
   BodyModel model;
   model.p = Eigen::Map<const PoseVector>(msg.p.data());
   model.q = Eigen::Map<const JointAngles>(msg.q.data());

@@ -2,6 +2,7 @@
 #include <body_gait_model/ros/gait_sequence_msg.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -41,6 +42,8 @@ GaitCycle fromMsg(const body_scan_msgs::GaitSequence& msg) {
   }
   cycle.velocity = Eigen::Vector3d(msg.velocity.x, msg.velocity.y, msg.velocity.z);
   cycle.stride_length = msg.stride_length;
+  if (!cycle.velocity.allFinite() || !std::isfinite(cycle.stride_length))
+    throw std::invalid_argument("GaitSequence.velocity or stride_length is not finite");
   return cycle;
 }
 

@@ -7,7 +7,8 @@
 //                     [--test-headings] [--per-joint] [--full-scanner]
 //                     [--missing-pairs pole_c/pair_2,...] [--only SUBJECT]
 //                     [--clouds DIR] [--rig RIG.yaml] [--dark-albedo A] [--people N]
-//                     [--lean-deg D]
+//                     [--lean-deg D] [--fit scan|walk] [--joint-limits walking|thesis]
+//                     [--body ellipsoid|mesh]
 //                     [--out report.yaml]        (all options: evaluate_body_fit --help)
 //
 // After the summary: per joint the mean error and mean offset (fitted - true) in the true body
@@ -24,6 +25,14 @@
 // simulatedPeople(N) (eval/gait_subjects.h: survey-drawn bodies, personal gait styles; walk 0)
 // instead of simulatedSubjects. --lean-deg D sets every simulated body's forward torso lean
 // (simulatedSubjects stand upright, simulatedPeople lean by their style, ~3 +- 2 deg).
+// --fit walk fits each subject's or walk's 4 poses together (fitWalk: one body, a pose per
+// scan); --fit scan (default) each scan alone. --joint-limits thesis uses Table 5.2's bounds
+// instead of the walking ranges. The summary adds per-walk and per-pose lines, the
+// Procrustes-aligned joint error, the fits reaching a joint limit and the low-quality flag's
+// precision and recall for "mean joint error > 50 mm".
+// --body mesh dresses every subject (and BVH walker) with the skinned mesh human
+// (body_scan_driver/sim/mesh_human.h: a person of the subject's stature, sex and build) instead of
+// the ellipsoids; the truth is the mesh's skeleton.
 //
 // Motion-capture subjects (issue 7): --bvh [PERSON=]WALK.bvh,... replaces the simulated subjects
 // by real walks: in each walk the 4 poses of 5.3 are picked (body_scan_driver's pickGaitPoses),
@@ -71,6 +80,7 @@ struct Settings {
   double lean_deg = -100;  // > -90: every simulated body's forward torso lean (deg)
   double dark_albedo = -1;
   bool test_headings = false, per_joint = false, full_scanner = false;
+  bool walk_fit = false;  // --fit walk: the 4 poses of each subject or walk fitted together
   std::vector<std::string> bvh_files;
   body_gait_model::eval::FullScannerOptions scanner;
   body_gait_model::FitOptions options;
@@ -142,13 +152,30 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& settings) {
   app.add_option("--picture", settings.picture,
                  "PNG: every case's cloud from the side with the fitted (red) and true (green) "
                  "joints");
+  std::string body = "ellipsoid";
+  app.add_option("--body", body, "the simulated body: ellipsoid (default) or mesh")
+      ->check(CLI::IsMember({"ellipsoid", "mesh"}));
   app.add_option("--out", settings.out, "YAML report");
+  std::string fit_mode = "scan", joint_limits = "walking";
+  app.add_option("--fit", fit_mode,
+                 "scan: every scan fitted alone (fitBody); walk: the 4 poses of each subject or "
+                 "walk fitted together (fitWalk: one body, a pose per scan)")
+      ->check(CLI::IsMember({"scan", "walk"}))
+      ->capture_default_str();
+  app.add_option("--joint-limits", joint_limits,
+                 "walking (gait ranges, config/body_fitter.yaml) or thesis (Table 5.2)")
+      ->check(CLI::IsMember({"walking", "thesis"}))
+      ->capture_default_str();
   if (const auto status = tools::parseCommandLine(app, argc, argv)) return status;
   if (columns > 0) {
     settings.rig.columns = columns;
     settings.rig.rows = columns * 13 / 16;
   }
   settings.options.refine = !direct;
+  settings.walk_fit = fit_mode == "walk";
+  settings.options.joint_limits = joint_limits == "thesis" ? body_gait_model::thesisJointLimits()
+                                                           : body_gait_model::walkingJointLimits();
+  settings.rig.body = settings.scanner.body = body_gait_model::eval::parseBodyKind(body);
   return std::nullopt;
 }
 
@@ -284,14 +311,59 @@ std::optional<std::vector<Case>> simulatedCases(Settings& settings) {
 
 // Sums over the fits, for the summary.
 struct Totals {
-  double joint = 0, length = 0, swing = 0, seconds = 0, points = 0;
-  int cases = 0, right = 0, low_quality = 0;
+  double joint = 0, procrustes = 0, length = 0, swing = 0, seconds = 0, points = 0;
+  int cases = 0, right = 0, low_quality = 0, reaching_limits = 0;
+  // The flag against "mean joint error > 50 mm": flagged bad, flagged good, unflagged bad.
+  int flagged_bad = 0, flagged_good = 0, unflagged_bad = 0;
   struct JointStats {
     double error = 0;
     Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   };
   std::map<std::string, JointStats> joint_stats;
   std::map<std::string, std::pair<double, double>> segment_stats;  // |error|, signed error
+
+  void add(const body_gait_model::eval::FitErrors& errors, const body_gait_model::BodyFit& fit,
+           double fit_seconds, size_t point_count) {
+    for (const auto& [name, error] : errors.joint_error) {
+      joint_stats[name].error += error;
+      joint_stats[name].offset += errors.joint_offset.at(name);
+    }
+    for (const auto& [name, bias] : errors.segment_length_bias) {
+      segment_stats[name].first += std::abs(bias);
+      segment_stats[name].second += bias;
+    }
+    joint += errors.mean_joint_error;
+    procrustes += errors.procrustes_joint_error;
+    length += errors.mean_length_error;
+    swing += errors.mean_swing_error;
+    seconds += fit_seconds;
+    points += double(point_count);
+    right += errors.front_right && errors.left_right;
+    low_quality += fit.quality.low_quality;
+    reaching_limits += !fit.quality.limits_reached.empty();
+    const bool bad = errors.mean_joint_error > kBadFit;
+    flagged_bad += fit.quality.low_quality && bad;
+    flagged_good += fit.quality.low_quality && !bad;
+    unflagged_bad += !fit.quality.low_quality && bad;
+    ++cases;
+  }
+  // One line: errors, facing, flags.
+  std::string line() const {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "%d fits: joint %.1f mm (Procrustes %.1f mm), length %.1f %%, swing %.2f deg, "
+                  "front/left right %d/%d, low quality %d",
+                  cases, 1000 * joint / cases, 1000 * procrustes / cases, 100 * length / cases,
+                  swing / cases * 180 / kPi, right, cases, low_quality);
+    return text;
+  }
+  static constexpr double kBadFit = 0.050;  // m: a fit this far off should be flagged
+};
+
+// Every fit's totals, and per subject or walk and per pose.
+struct Summary {
+  Totals all;
+  std::map<std::string, Totals> by_walk, by_pose;
 };
 
 // What the run writes besides stdout.
@@ -301,14 +373,16 @@ struct Outputs {
   std::vector<cv::Mat> panels;
 };
 
-// Scans and fits one case, prints its line and adds it to the totals and the outputs. Throws
+// The subject or walk a case belongs to: the cases fitted together by --fit walk.
+std::string walkOf(const Case& each) { return each.walk.empty() ? each.spec.name : each.walk; }
+
+// Scans one case (the full scanner or the sampler) and writes its cloud for --clouds. Throws
 // when the scan or its cloud file fails.
-void evaluateCase(const Case& each, const Settings& settings, Totals& totals, Outputs& outputs) {
+body_gait_model::eval::SampledBody scanCase(const Case& each, const Settings& settings) {
   auto spec = each.spec;
-  const int pose = each.pose;
   if (settings.dark_albedo >= 0)
     spec.materials.hair.albedo = spec.materials.clothing.albedo = settings.dark_albedo;
-  const body_gait_model::eval::SampledBody body =
+  body_gait_model::eval::SampledBody body =
       settings.full_scanner ? body_gait_model::eval::scanBodyWithFullScanner(spec, settings.scanner)
                             : body_gait_model::eval::sampleBody(spec, settings.rig);
   if (!settings.clouds.empty()) {
@@ -316,13 +390,18 @@ void evaluateCase(const Case& each, const Settings& settings, Totals& totals, Ou
     for (const Eigen::Vector3d& p : body.points)
       xyz.insert(xyz.end(), {float(p.x()), float(p.y()), float(p.z())});
     const std::string path =
-        settings.clouds + "/" + spec.name + "_pose" + std::to_string(pose) + ".ply";
+        settings.clouds + "/" + spec.name + "_pose" + std::to_string(each.pose) + ".ply";
     body_scan_merge::writePly(path, xyz.data(), body.points.size(), 3, -1);
   }
-  const auto start = std::chrono::steady_clock::now();
-  const body_gait_model::BodyFit fit = body_gait_model::fitBody(body.points, settings.options);
-  const double fit_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return body;
+}
+
+// Compares one fit with the truth, prints its line and adds it to the summary and the outputs.
+void reportFit(const Case& each, const body_gait_model::eval::SampledBody& body,
+               const body_gait_model::BodyFit& fit, double fit_seconds, const Settings& settings,
+               Summary& summary, Outputs& outputs) {
+  const auto& spec = body.spec;
+  const int pose = each.pose;
   const auto errors = body_gait_model::eval::compareWithTruth(fit.model, body);
   if (!settings.picture.empty()) {
     std::ostringstream title;
@@ -333,24 +412,37 @@ void evaluateCase(const Case& each, const Settings& settings, Totals& totals, Ou
                                        body.skeleton, title.str()));
   }
   const bool heading_right = errors.front_right && errors.left_right;
+  std::string limits;
+  for (const std::string& limit : fit.quality.limits_reached)
+    limits += (limits.empty() ? "" : "; ") + limit;
   std::printf(
-      "%s pose %d: %zu points, joint %.1f mm, length %.1f %%, swing %.2f deg, "
-      "front/left %s, RMS %.1f mm, explained %.0f %%%s, %.0f ms\n",
+      "%s pose %d: %zu points, joint %.1f mm (Procrustes %.1f mm), length %.1f %%, swing %.2f "
+      "deg, front/left %s, RMS %.1f mm, explained %.0f %%%s, %.0f ms%s%s\n",
       (spec.name + (each.frame >= 0 ? " frame " + std::to_string(each.frame + 1) : "")).c_str(),
-      pose, body.points.size(), 1000 * errors.mean_joint_error, 100 * errors.mean_length_error,
+      pose, body.points.size(), 1000 * errors.mean_joint_error,
+      1000 * errors.procrustes_joint_error, 100 * errors.mean_length_error,
       errors.mean_swing_error * 180 / kPi, heading_right ? "right" : "WRONG",
       1000 * fit.quality.rms_distance, 100 * fit.quality.explained_fraction,
-      fit.quality.low_quality ? ", LOW QUALITY" : "", 1000 * fit_seconds);
+      fit.quality.low_quality ? ", LOW QUALITY" : "", 1000 * fit_seconds,
+      limits.empty() ? "" : "\n    limits reached: ", limits.c_str());
+  if (fit.quality.low_quality && settings.per_joint)
+    std::printf("    low quality: %s\n", fit.quality.reason.c_str());
   std::ostringstream& yaml = outputs.yaml;
   yaml << "  - {subject: " << spec.name << ", pose: " << pose << ", points: " << body.points.size()
        << ", joint_error_m: " << errors.mean_joint_error
+       << ", procrustes_joint_error_m: " << errors.procrustes_joint_error
        << ", length_error: " << errors.mean_length_error
        << ", swing_error_rad: " << errors.mean_swing_error
        << ", heading_right: " << (heading_right ? "true" : "false")
        << ", rms_m: " << fit.quality.rms_distance
        << ", explained: " << fit.quality.explained_fraction
        << ", low_quality: " << (fit.quality.low_quality ? "true" : "false")
+       << ", limits_reached: " << fit.quality.limits_reached.size()
        << ", fit_seconds: " << fit_seconds;
+  yaml << ", joint_errors_m: {";
+  for (const auto& [name, error] : errors.joint_error)
+    yaml << (name == errors.joint_error.begin()->first ? "" : ", ") << name << ": " << error;
+  yaml << "}";
   if (each.frame >= 0) yaml << ", person: '" << each.person << "', frame: " << each.frame + 1;
   yaml << "}\n";
   if (each.frame >= 0) {
@@ -372,34 +464,64 @@ void evaluateCase(const Case& each, const Settings& settings, Totals& totals, Ou
     for (const auto& [name, bias] : errors.segment_length_bias)
       std::printf("    %-15s %+6.1f %%\n", name.c_str(), 100 * bias);
   }
-  for (const auto& [name, error] : errors.joint_error) {
-    totals.joint_stats[name].error += error;
-    totals.joint_stats[name].offset += errors.joint_offset.at(name);
-  }
-  for (const auto& [name, bias] : errors.segment_length_bias) {
-    totals.segment_stats[name].first += std::abs(bias);
-    totals.segment_stats[name].second += bias;
-  }
-  totals.joint += errors.mean_joint_error;
-  totals.length += errors.mean_length_error;
-  totals.swing += errors.mean_swing_error;
-  totals.seconds += fit_seconds;
-  totals.points += double(body.points.size());
-  totals.right += heading_right;
-  totals.low_quality += fit.quality.low_quality;
-  ++totals.cases;
+  for (Totals* totals : {&summary.all, &summary.by_walk[walkOf(each)],
+                         &summary.by_pose["pose " + std::to_string(pose)]})
+    totals->add(errors, fit, fit_seconds, body.points.size());
 }
 
-// The summary line, the per-joint and per-segment tables, and their YAML.
-void summarize(const Totals& totals, int subjects, std::ostringstream& yaml) {
+// Scans a subject's or walk's cases and fits them (alone, or together with --fit walk).
+void evaluateWalk(const std::vector<const Case*>& walk, const Settings& settings, Summary& summary,
+                  Outputs& outputs) {
+  std::vector<body_gait_model::eval::SampledBody> bodies;
+  for (const Case* each : walk) bodies.push_back(scanCase(*each, settings));
+  std::vector<body_gait_model::BodyFit> fits;
+  std::vector<double> seconds;
+  if (settings.walk_fit) {
+    std::vector<body_gait_model::Cloud> clouds;
+    for (const auto& body : bodies) clouds.push_back(body.points);
+    const auto start = std::chrono::steady_clock::now();
+    fits = body_gait_model::fitWalk(clouds, settings.options).scans;
+    const double walk_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    seconds.assign(fits.size(), walk_seconds / double(fits.size()));
+  } else {
+    for (const auto& body : bodies) {
+      const auto start = std::chrono::steady_clock::now();
+      fits.push_back(body_gait_model::fitBody(body.points, settings.options));
+      seconds.push_back(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+  }
+  for (size_t k = 0; k < walk.size(); ++k)
+    reportFit(*walk[k], bodies[k], fits[k], seconds[k], settings, summary, outputs);
+}
+
+// The summary line, the per-walk, per-pose, per-joint and per-segment tables, and their YAML.
+void summarize(const Summary& summary, int subjects, const Settings& settings,
+               std::ostringstream& yaml) {
+  const Totals& totals = summary.all;
   const int cases = totals.cases;
+  if (cases == 0) return;
   std::printf(
-      "SUMMARY %d fits (%d subjects or walks x 4 poses, mean %.0f points): mean joint-centre error "
-      "%.1f mm, segment-length error %.1f %%, swing-angle error %.2f deg, front/left right "
-      "%d/%d, low quality %d, %.0f ms per fit\n",
-      cases, subjects, totals.points / cases, 1000 * totals.joint / cases,
-      100 * totals.length / cases, totals.swing / cases * 180 / kPi, totals.right, cases,
-      totals.low_quality, 1000 * totals.seconds / cases);
+      "SUMMARY %d fits (%d subjects or walks x 4 poses, %s fit, mean %.0f points): mean "
+      "joint-centre error %.1f mm, segment-length error %.1f %%, swing-angle error %.2f deg, "
+      "front/left right %d/%d, low quality %d, %.0f ms per fit\n",
+      cases, subjects, settings.walk_fit ? "walk" : "scan", totals.points / cases,
+      1000 * totals.joint / cases, 100 * totals.length / cases, totals.swing / cases * 180 / kPi,
+      totals.right, cases, totals.low_quality, 1000 * totals.seconds / cases);
+  const int flagged = totals.flagged_bad + totals.flagged_good;
+  const int bad = totals.flagged_bad + totals.unflagged_bad;
+  std::printf(
+      "Procrustes-aligned joint error %.1f mm; fits reaching a joint limit %d; the low-quality "
+      "flag against mean joint error > 50 mm: precision %d/%d, recall %d/%d\n",
+      1000 * totals.procrustes / cases, totals.reaching_limits, totals.flagged_bad, flagged,
+      totals.flagged_bad, bad);
+  for (const auto& [title, groups] : {std::pair{"per subject or walk", &summary.by_walk},
+                                      std::pair{"per pose", &summary.by_pose}}) {
+    std::printf("%s:\n", title);
+    for (const auto& [name, group] : *groups)
+      std::printf("  %-12s %s\n", name.c_str(), group.line().c_str());
+  }
   std::printf("%-16s %9s %28s\n", "joint", "error mm", "offset fwd/left/up mm");
   for (const auto& [name, stats] : totals.joint_stats)
     std::printf("%-16s %9.1f %9.1f %8.1f %8.1f\n", name.c_str(), 1000 * stats.error / cases,
@@ -418,11 +540,31 @@ void summarize(const Totals& totals, int subjects, std::ostringstream& yaml) {
   for (const auto& [name, stats] : totals.segment_stats)
     yaml << "  " << name << ": {length_error: " << stats.first / cases
          << ", signed_length_error: " << stats.second / cases << "}\n";
-  yaml << "summary: {fits: " << cases << ", mean_points: " << totals.points / cases
+  auto totalsYaml = [&](const Totals& t) {
+    std::ostringstream text;
+    text << "{fits: " << t.cases << ", mean_joint_error_m: " << t.joint / t.cases
+         << ", procrustes_joint_error_m: " << t.procrustes / t.cases
+         << ", mean_length_error: " << t.length / t.cases
+         << ", mean_swing_error_rad: " << t.swing / t.cases << ", heading_right: " << t.right
+         << ", low_quality: " << t.low_quality << "}";
+    return text.str();
+  };
+  for (const auto& [key, groups] :
+       {std::pair{"walks", &summary.by_walk}, std::pair{"poses", &summary.by_pose}}) {
+    yaml << key << ":\n";
+    for (const auto& [name, group] : *groups)
+      yaml << "  '" << name << "': " << totalsYaml(group) << "\n";
+  }
+  yaml << "summary: {fits: " << cases << ", fit: " << (settings.walk_fit ? "walk" : "scan")
+       << ", mean_points: " << totals.points / cases
        << ", mean_joint_error_m: " << totals.joint / cases
+       << ", procrustes_joint_error_m: " << totals.procrustes / cases
        << ", mean_length_error: " << totals.length / cases
        << ", mean_swing_error_rad: " << totals.swing / cases << ", heading_right: " << totals.right
-       << ", low_quality: " << totals.low_quality
+       << ", low_quality: " << totals.low_quality << ", flag_precision: [" << totals.flagged_bad
+       << ", " << flagged << "]"
+       << ", flag_recall: [" << totals.flagged_bad << ", " << bad << "]"
+       << ", reaching_limits: " << totals.reaching_limits
        << ", mean_fit_seconds: " << totals.seconds / cases << "}\n";
 }
 
@@ -472,13 +614,20 @@ int main(int argc, char** argv) {
       cases = bvhCases(settings.bvh_files, settings.bvh_map);
       settings.subjects = int(settings.bvh_files.size());
     }
-    Totals totals;
+    Summary summary;
     Outputs outputs;
     outputs.yaml << "cases:\n";
-    for (const Case& each : cases)
-      if (settings.only.empty() || each.spec.name == settings.only)
-        evaluateCase(each, settings, totals, outputs);
-    summarize(totals, settings.subjects, outputs.yaml);
+    // Each subject's or walk's cases in turn (consecutive in the list).
+    for (size_t begin = 0; begin < cases.size();) {
+      std::vector<const Case*> walk;
+      size_t end = begin;
+      for (; end < cases.size() && walkOf(cases[end]) == walkOf(cases[begin]); ++end)
+        if (settings.only.empty() || cases[end].spec.name == settings.only)
+          walk.push_back(&cases[end]);
+      if (!walk.empty()) evaluateWalk(walk, settings, summary, outputs);
+      begin = end;
+    }
+    summarize(summary, settings.subjects, settings, outputs.yaml);
     writeOutputs(settings, outputs);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "evaluate_body_fit: %s\n", error.what());

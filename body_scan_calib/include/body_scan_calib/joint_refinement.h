@@ -20,6 +20,8 @@ struct JointRefinementInput {
   std::vector<Eigen::Vector3d> board_points;           // corner positions on the board (z = 0)
   const ProjectorCalibrationResult* planes = nullptr;  // initial planes and their stripe points
   int max_stripe_points = 60000;  // a spread subsample keeps it fast; thousands per plane anyway
+  // Cap the stripe points' total weight at the corners' (see refineJointly).
+  bool balance_groups = false;
 };
 
 struct JointRefinementResult {
@@ -32,7 +34,9 @@ struct JointRefinementResult {
 };
 
 // Residuals are weighted by the initial corner and plane-fit rms (maximum likelihood with those
-// noise levels); a Huber loss limits checker-edge outliers. Skew stays fixed at its input.
+// noise levels); with balance_groups the stripe points as a group weigh at most as much as the
+// corners (they are many and correlated). A Huber loss limits checker-edge outliers. Skew stays
+// fixed at its input.
 JointRefinementResult refineJointly(const JointRefinementInput& input);
 
 }  // namespace body_scan_calib

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <body_scan_calib/camera_calibration.h>
+#include <body_scan_calib/capture_decoding.h>
 #include <body_scan_calib/pinhole_projector.h>
 #include <body_scan_calib/projector_calibration.h>
 #include <body_scan_calib/sphere_accuracy.h>
@@ -56,6 +57,7 @@ struct PairCalibrationOptions {
   Checkerboard board = referenceBoard();
   ProjectorCalibrationOptions projector;
   bool joint_refinement = true;  // Ceres: camera + board poses + planes together
+  RobustDecoding decoding;       // capture_decoding.h (off: the driver's decoder as is)
   std::string pair_id = "pair";
 };
 
@@ -70,10 +72,12 @@ struct PairCalibrationOutcome {
 };
 
 // pose_frames: per reference-plane pose the pattern set's frames (CV_8UC1, PatternLayout order).
-PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& pose_frames,
-                                     const body_scan_driver::PatternLayout& layout,
-                                     const PairCalibrationOptions& options,
-                                     const Progress& progress = {});
+// pose_cross_frames: per pose the projector's other axis if recorded (capture_decoding.h), or
+// empty.
+PairCalibrationOutcome calibratePair(
+    const std::vector<std::vector<cv::Mat>>& pose_frames,
+    const body_scan_driver::PatternLayout& layout, const PairCalibrationOptions& options,
+    const Progress& progress = {}, const std::vector<std::vector<cv::Mat>>& pose_cross_frames = {});
 
 struct SphereAccuracy {
   int number;  // 1..5, top left to bottom right (Fig 3.7)

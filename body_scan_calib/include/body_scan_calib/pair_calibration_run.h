@@ -4,6 +4,7 @@
 #pragma once
 
 #include <body_scan_calib/calibration_rig.h>
+#include <body_scan_calib/capture_layout.h>
 #include <body_scan_calib/pair_calibration_pipeline.h>
 #include <body_scan_driver/gray_code.h>
 #include <body_scan_driver/pair_model.h>
@@ -20,9 +21,11 @@ namespace body_scan_calib {
 struct PairViews {
   body_scan_driver::PatternLayout layout{8, true};
   std::vector<std::vector<cv::Mat>> pose_frames;  // per board pose, PatternLayout order
-  std::vector<cv::Mat> sphere_frames;             // empty: accuracy not evaluated
-  std::vector<cv::Mat> sphere_single_frames;      // optional: one exposure, a second table
-  int exposures = 16;                             // frames averaged per pattern
+  // Per board pose, the projector's other axis (PatternLayout order; empty if not recorded).
+  std::vector<std::vector<cv::Mat>> pose_cross_frames;
+  std::vector<cv::Mat> sphere_frames;         // empty: accuracy not evaluated
+  std::vector<cv::Mat> sphere_single_frames;  // optional: one exposure, a second table
+  int exposures = 16;                         // frames averaged per pattern
   double sphere_radius_m = 0.025;
   std::vector<Eigen::Vector3d> nominal_centers = rig::defaultSphereCenters();
   std::vector<Eigen::Vector3d> true_centers;               // known only to a simulator
@@ -33,6 +36,9 @@ struct PairViews {
 // code bits and inverse frames, `exposures` averaged per pattern. Throws std::runtime_error
 // naming what the folder lacks.
 PairViews loadPairViews(const std::string& folder, int bits, int exposures);
+// The same for any capture layout (capture_layout.h); spheres/ is read in the project layout.
+PairViews loadPairViews(const std::string& folder, const CaptureLayout& layout,
+                        const CaptureBits& bits, int exposures);
 
 struct PairCalibrationFiles {
   std::string calibration = "calibration/pair.yaml";

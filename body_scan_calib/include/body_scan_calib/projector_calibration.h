@@ -52,9 +52,27 @@ struct ReferencePlaneObservation {
   cv::Mat1b region;             // pixels on the board; empty = all
 };
 
+// The smooth model across stripe index: a pencil of planes through one line (a 1-D pinhole
+// projector, pinhole_projector.h) fitted robustly to the lifted points of all stripes at once,
+// its stripe coordinate corrected by a cubic B-spline of the stripe index (lens distortion).
+// A stripe that one pose showed is a line on that board, which with the pencil fixes its
+// plane: every stripe a board showed gets one.
+enum class StripePlaneModel {
+  kPerStripe,        // thesis eq 3.5 per stripe only: < min_poses_per_stripe -> NaN
+  kSmoothFillsGaps,  // per stripe where >= min_poses_per_stripe, the smooth model elsewhere
+  kSmooth,           // the smooth model for every stripe
+};
+
 struct ProjectorCalibrationOptions {
   int stripe_count = 256;
-  int min_poses_per_stripe = 3;  // fewer: the stripe is reported and stored as a NaN plane
+  // Per-stripe planes need a stripe on this many poses (fewer: the smooth model's plane, or NaN
+  // with kPerStripe).
+  int min_poses_per_stripe = 3;
+  StripePlaneModel model = StripePlaneModel::kPerStripe;
+  int stripes_per_spline_segment = 32;
+  // The smooth model gives planes up to this many stripes beyond the outermost stripes a board
+  // showed (listed as extrapolated); farther stripes are NaN (missing).
+  int extrapolation_margin = 8;
   // Points farther than this many rms from the first fit are dropped and the plane refitted
   // (checker edges and board borders blur the decoded coordinate).
   double outlier_rms_factor = 3.0;
@@ -64,9 +82,12 @@ struct ProjectorCalibrationResult {
   body_scan_driver::StripePlaneProjector projector;  // NaN plane for every missing stripe
   std::vector<int> poses_per_stripe;                 // how many poses saw each stripe
   std::vector<int> points_per_stripe;                // points used in the final fit
-  std::vector<double> rms_per_stripe_m;  // point-to-plane rms of the final fit (NaN if missing)
-  std::vector<int> missing_stripes;      // seen on fewer than min_poses_per_stripe poses
-  double rms_m = 0;                      // over all fitted points
+  std::vector<double> rms_per_stripe_m;   // point-to-plane rms of the final fit (NaN if missing)
+  std::vector<int> missing_stripes;       // NaN planes: seen on too few poses / beyond the margin
+  std::vector<int> smooth_stripes;        // planes from the smooth model (kSmooth: every one)
+  std::vector<int> extrapolated_stripes;  // of those, stripes no board showed (within the margin)
+  double smooth_rms_m = 0;                // point-to-plane rms of the smooth model (inliers)
+  double rms_m = 0;                       // over all fitted points
   // The lifted centre-line points of every pose, with their stripe (for the pinhole baseline
   // and the joint refinement): the same data for every model.
   std::vector<Eigen::Vector3d> points;

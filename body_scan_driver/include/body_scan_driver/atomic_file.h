@@ -13,6 +13,8 @@ struct FileWriteError : std::runtime_error {
 
 // Writes `contents` to a temporary file in the folder of `path` and renames it over `path`.
 // Creates missing parent folders. Throws FileWriteError naming the file and the fix.
-void writeFileAtomically(const std::string& path, const std::string& contents);
+// owner_only: mode 0600 (personal data), from before the file holds anything.
+void writeFileAtomically(const std::string& path, const std::string& contents,
+                         bool owner_only = false);
 
 }  // namespace body_scan_driver

@@ -175,7 +175,8 @@ class PairDriverNodelet : public nodelet::Nodelet {
   bool onCapture(body_scan_msgs::Capture::Request& request,
                  body_scan_msgs::Capture::Response& response) {
     response.scan_id = request.scan_id;
-    response.success = captureAndPublish(request.scan_id, response.message, &request.active_pairs);
+    response.success = captureAndPublish(request.scan_id, response.message, &request.active_pairs,
+                                         request.walk_id, request.pose_index);
     response.scan_id = last_scan_id_;
     return true;
   }
@@ -187,8 +188,10 @@ class PairDriverNodelet : public nodelet::Nodelet {
   }
 
   // active_pairs: the other pairs projecting during this capture (nullptr: this pair alone).
+  // walk_id, pose_index: the walk session the scan belongs to (0: none), stamped on the set.
   bool captureAndPublish(uint32_t scan_id, std::string& message,
-                         const std::vector<std::string>* active_pairs = nullptr) {
+                         const std::vector<std::string>* active_pairs = nullptr,
+                         uint32_t walk_id = 0, uint8_t pose_index = 0) {
     std::lock_guard<std::mutex> lock(capture_mutex_);  // one pattern sequence at a time
     if (!device_) {
       message = "pair not available: " + device_error_;
@@ -210,16 +213,26 @@ class PairDriverNodelet : public nodelet::Nodelet {
     } catch (const std::exception& e) {
       message = std::string("capture failed: ") + e.what();
       return false;
+    } catch (...) {
+      message = "capture failed: unknown error";
+      return false;
     }
     std_msgs::Header header;
     header.stamp = ros::Time::now();
     header.frame_id = frame_id_;
-    const body_scan_msgs::PatternSetPtr set = toPatternSet(
-        capture, device_->layout(), device_->camera(), header, pair_id_, last_scan_id_);
-    pattern_pub_.publish(set);  // shared pointer: zero copy to nodelets in this manager
-    ++published_sets_;
-    if (image_pub_.getNumSubscribers() > 0) image_pub_.publish(set->texture);
-    info_pub_.publish(set->camera_info);
+    try {  // nothing may escape into the nodelet manager (a trigger is a callback)
+      const body_scan_msgs::PatternSetPtr set = toPatternSet(
+          capture, device_->layout(), device_->camera(), header, pair_id_, last_scan_id_);
+      set->walk_id = walk_id;
+      set->pose_index = pose_index;
+      pattern_pub_.publish(set);  // shared pointer: zero copy to nodelets in this manager
+      ++published_sets_;
+      if (image_pub_.getNumSubscribers() > 0) image_pub_.publish(set->texture);
+      info_pub_.publish(set->camera_info);
+    } catch (const std::exception& e) {
+      message = std::string("publishing the pattern set failed: ") + e.what();
+      return false;
+    }
     message = "captured scan " + std::to_string(last_scan_id_);
     return true;
   }

@@ -311,7 +311,8 @@ void moveBody(HumanBodySpec& spec, double heading, const Eigen::Vector3d& positi
 }
 
 HumanBodySpec bvhHumanFromYaml(const YAML::Node& object, const std::string& where,
-                               const std::string& base_dir) {
+                               const std::string& base_dir,
+                               const std::function<Anthropometry(double)>& body_for) {
   requireKnownKeys(object,
                    {"type", "name", "bvh", "joint_map", "frame", "gait_pose", "stature", "position",
                     "heading_deg", "materials"},
@@ -344,8 +345,10 @@ HumanBodySpec bvhHumanFromYaml(const YAML::Node& object, const std::string& wher
       if (pose < 1 || pose > 4) throw std::runtime_error("'gait_pose' must be 1..4 (thesis 5.3)");
       frame = pickGaitPoses(subject).frame[pose - 1];
     }
-    Anthropometry body =
-        object["stature"] ? looks.body : Anthropometry::fromStature(subject.estimatedStature());
+    const Anthropometry body = body_for ? body_for(subject.estimatedStature())
+                               : object["stature"]
+                                   ? looks.body
+                                   : Anthropometry::fromStature(subject.estimatedStature());
     spec = subject.body(frame, body);
   } catch (const YAML::Exception& e) {
     throw std::runtime_error(where + ": " + e.what());

@@ -1,6 +1,7 @@
 #include <body_scan_driver/sim/bvh_body.h>
 #include <body_scan_driver/sim/calibration_cylinder.h>
 #include <body_scan_driver/sim/human_body.h>
+#include <body_scan_driver/sim/mesh_human.h>
 #include <body_scan_driver/sim/scene.h>
 #include <yaml-cpp/yaml.h>
 
@@ -220,12 +221,55 @@ bool Scene::intersect(const Ray& ray, Hit& hit, double t_min, double t_max) cons
   return found;
 }
 
+void Scene::intersectMany(const Ray* rays, int count, Hit* hits, double t_min) const {
+  for (int i = 0; i < count; ++i) hits[i] = Hit{};
+  for (size_t index = 0; index < surfaces_.size(); ++index) {
+    const Surface* surface = surfaces_[index].get();
+    const double radius = surface->boundingRadius();
+    // Rays whose line meets the bounding sphere, in runs (a row's rays are contiguous).
+    int start = 0;
+    while (start < count) {
+      auto meets = [&](int i) {
+        if (!std::isfinite(radius)) return true;
+        const Eigen::Vector3d to_center = surface->boundingCenter() - rays[i].origin;
+        const double along = to_center.dot(rays[i].direction);
+        return along + radius >= t_min && along - radius <= hits[i].distance &&
+               to_center.squaredNorm() - along * along <= radius * radius;
+      };
+      while (start < count && !meets(start)) ++start;
+      int end = start;
+      while (end < count && meets(end)) ++end;
+      if (end > start) {
+        std::vector<Hit> run(hits + start, hits + end);
+        surface->intersectMany(rays + start, end - start, t_min, run.data());
+        for (int i = start; i < end; ++i)
+          if (run[i - start].surface == surface) {
+            hits[i] = run[i - start];
+            hits[i].surface_index = static_cast<int>(index);
+          }
+      }
+      start = end;
+    }
+  }
+}
+
 bool Scene::occluded(const Eigen::Vector3d& from, const Eigen::Vector3d& to) const {
   const Eigen::Vector3d delta = to - from;
   const double length = delta.norm();
-  Hit hit;
+  const Ray ray{from, delta / length};
   // Tolerances keep a surface from shadowing itself at the start point.
-  return intersect(Ray{from, delta / length}, hit, 1e-5, length - 1e-5);
+  const double t_min = 1e-5, t_max = length - 1e-5;
+  for (const auto& surface : surfaces_) {
+    const double radius = surface->boundingRadius();
+    if (std::isfinite(radius)) {
+      const Eigen::Vector3d to_center = surface->boundingCenter() - ray.origin;
+      const double along = to_center.dot(ray.direction);
+      if (along + radius < t_min || along - radius > t_max) continue;
+      if (to_center.squaredNorm() - along * along > radius * radius) continue;
+    }
+    if (surface->occludes(ray, t_min, t_max)) return true;
+  }
+  return false;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -303,10 +347,13 @@ void addObject(const YAML::Node& object, const std::string& where, const std::st
   } else if (type == "bvh_human") {
     addHumanBody(bvhHumanFromYaml(object, where, base_dir), scene);
     return;
+  } else if (type == "mesh_human") {
+    addMeshHumanFromYaml(object, where, base_dir, scene);
+    return;
   } else {
     throw std::runtime_error(where + ": unknown type '" + type +
                              "'; use plane, checkerboard, sphere, cylinder, calibration_cylinder, "
-                             "human or bvh_human");
+                             "human, bvh_human or mesh_human");
   }
   surface->name = object["name"] ? object["name"].as<std::string>() : type;
   scene.add(std::move(surface));

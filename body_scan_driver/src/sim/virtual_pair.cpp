@@ -261,28 +261,38 @@ void VirtualPair::traceSurfaces(const std::vector<const VirtualPair*>& also_proj
   const Eigen::Isometry3d& pose = config_.world_from_camera;
   const Eigen::Matrix3d rotation = pose.linear();
   truth.points.create(rows, cols);
+  truth.normals.create(rows, cols);
   truth.stripe.create(rows, cols);
   truth.surface.create(rows, cols);
   truth.skeleton = scene_->skeleton();
 
   cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& range) {
-    for (int v = range.start; v < range.end; ++v)
+    // A row's rays at once (meshes cast them as packets).
+    std::vector<Ray> rays(cols);
+    std::vector<Hit> hits(cols);
+    for (int v = range.start; v < range.end; ++v) {
+      for (int u = 0; u < cols; ++u)
+        rays[u] = Ray{pose.translation(),
+                      rotation * camera_rays_[static_cast<size_t>(v) * cols + u].cast<double>()};
+      scene_->intersectMany(rays.data(), cols, hits.data());
       for (int u = 0; u < cols; ++u) {
         const size_t index = static_cast<size_t>(v) * cols + u;
         const Eigen::Vector3d ray_camera = camera_rays_[index].cast<double>();
-        Hit hit;
+        const Hit& hit = hits[u];
         truth.surface(v, u) = -1;
         truth.points(v, u) = cv::Vec3f::all(std::numeric_limits<float>::quiet_NaN());
+        truth.normals(v, u) = cv::Vec3f::all(std::numeric_limits<float>::quiet_NaN());
         truth.stripe(v, u) = std::numeric_limits<float>::quiet_NaN();
-        if (!scene_->intersect(Ray{pose.translation(), rotation * ray_camera}, hit)) continue;
+        if (!hit.surface) continue;
         const Eigen::Vector3d point_camera = hit.distance * ray_camera;
         const Eigen::Vector3d point_world = pose * point_camera;
         truth.surface(v, u) = hit.surface_index;
         truth.points(v, u) = toVec3f(point_camera);
 
         const Eigen::Vector3d normal_camera = rotation.transpose() * hit.normal;
-        double albedo = hit.surface->albedoAt(point_world);
-        Eigen::Vector3d color = hit.surface->colorAt(point_world);
+        truth.normals(v, u) = toVec3f(normal_camera);
+        double albedo = hit.surface->albedoAtHit(hit, point_world);
+        Eigen::Vector3d color = hit.surface->colorAtHit(hit, point_world);
         if (hit.surface->patterned())
           averageOverPixel(*hit.surface, camera_rays_, rows, cols, pose, rotation, u, v, albedo,
                            color);
@@ -304,6 +314,7 @@ void VirtualPair::traceSurfaces(const std::vector<const VirtualPair*>& also_proj
           continue;
         truth.stripe(v, u) = sample.stripe;
       }
+    }
   });
 }
 

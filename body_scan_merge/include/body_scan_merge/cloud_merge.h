@@ -52,6 +52,39 @@ struct MergedCloud {
   size_t size() const { return xyzrgb.size() / 4; }
 };
 
+// Allocator of the merge's big working buffers. Elements are not value-initialized (each is
+// written before it is read), and blocks of 2 MB or more are aligned to and advised as
+// transparent huge pages: a first scan touches tens of MB, and 4 kB pages would cost it tens of
+// thousands of page faults.
+void* allocateWorkBuffer(size_t bytes);
+void freeWorkBuffer(void* block);
+template <typename T>
+struct WorkBufferAllocator {
+  using value_type = T;
+  WorkBufferAllocator() = default;
+  template <typename U>
+  WorkBufferAllocator(const WorkBufferAllocator<U>&) {}
+  T* allocate(size_t n) { return static_cast<T*>(allocateWorkBuffer(n * sizeof(T))); }
+  void deallocate(T* block, size_t) { freeWorkBuffer(block); }
+  template <typename U, typename... Args>
+  void construct(U* at, Args&&... args) {
+    if constexpr (sizeof...(Args) == 0)
+      ::new (static_cast<void*>(at)) U;  // default-initialized: no zeroing pass
+    else
+      ::new (static_cast<void*>(at)) U(std::forward<Args>(args)...);
+  }
+  template <typename U>
+  bool operator==(const WorkBufferAllocator<U>&) const {
+    return true;
+  }
+  template <typename U>
+  bool operator!=(const WorkBufferAllocator<U>&) const {
+    return false;
+  }
+};
+template <typename T>
+using WorkBuffer = std::vector<T, WorkBufferAllocator<T>>;
+
 // The merge with its working buffers kept from one scan to the next (the Merge nodelet keeps
 // one): a scan's tens of megabytes are not allocated and page-faulted in again every time.
 // Deterministic: the same parts in the same order give the same cloud, bit for bit, on 2
@@ -94,15 +127,15 @@ class CloudMerger {
     float xyzrgb[4];
   };
   MergeOptions options_;
-  std::vector<std::vector<float>> kept_;  // per part: its points in the scan volume
-  std::vector<Points> in_volume_;         // per part: the part of kept_ in use
-  std::vector<Bounds> bounds_;            // per part: of its points in the scan volume
-  std::vector<size_t> valid_;             // per part: its finite points
-  std::vector<double> part_seconds_;      // per part: addPart's time
-  std::vector<Record> records_;           // every point, grouped by bucket of keys
-  std::vector<uint32_t> keys_;            // per point: its voxel key
-  std::vector<size_t> bucket_offsets_;    // per chunk of input and bucket: where it goes
-  std::vector<float> upper_half_;         // the upper buckets' voxels, before they are appended
+  std::vector<WorkBuffer<float>> kept_;  // per part: its points in the scan volume
+  std::vector<Points> in_volume_;        // per part: the part of kept_ in use
+  std::vector<Bounds> bounds_;           // per part: of its points in the scan volume
+  std::vector<size_t> valid_;            // per part: its finite points
+  std::vector<double> part_seconds_;     // per part: addPart's time
+  WorkBuffer<Record> records_;           // every point, grouped by bucket of keys
+  WorkBuffer<uint32_t> keys_;            // per point: its voxel key
+  std::vector<size_t> bucket_offsets_;   // per chunk of input and bucket: where it goes
+  std::vector<float> upper_half_;        // the upper buckets' voxels, before they are appended
 };
 
 // A merge with buffers of its own (tests, tools).

@@ -1,4 +1,5 @@
 #include <body_scan_driver/atomic_file.h>
+#include <body_scan_driver/sim/triangle_mesh.h>
 #include <body_scan_merge/eval/scan_accuracy.h>
 
 #include <algorithm>
@@ -91,14 +92,19 @@ std::vector<SurfaceSample> sampleBodySurface(const body_scan_driver::sim::Scene&
                                              std::vector<std::string>* segment_names) {
   std::vector<const body_scan_driver::sim::Ellipsoid*> parts;
   std::vector<std::string> segments;
+  const body_scan_driver::sim::TriangleMesh* skin = nullptr;  // a mesh human's
   for (const auto& surface : scene.surfaces()) {
     if (surface->name.rfind(body_name + "/", 0) != 0) continue;
+    if (const auto* mesh = dynamic_cast<const body_scan_driver::sim::TriangleMesh*>(surface.get()))
+      skin = mesh;
     const auto* ellipsoid = dynamic_cast<const body_scan_driver::sim::Ellipsoid*>(surface.get());
     if (!ellipsoid) continue;
     parts.push_back(ellipsoid);
     segments.push_back(surface->name.substr(body_name.size() + 1));
   }
-  if (parts.empty()) throw std::invalid_argument("the scene has no body named '" + body_name + "'");
+  if (parts.empty() && !skin)
+    throw std::invalid_argument("the scene has no body named '" + body_name + "'");
+  if (skin) segments = skin->partNames();
 
   // Body frame from the true skeleton: up = world z, left = the hips' direction, forward = x.
   const auto& skeleton = scene.skeleton();
@@ -126,8 +132,8 @@ std::vector<SurfaceSample> sampleBodySurface(const body_scan_driver::sim::Scene&
     if ((segment == "head" || segment == "neck" || segment == "hair") && p.z() >= neck.z() - 0.01 &&
         p.z() <= chin_z + 0.02 && (p - neck).dot(forward) > 0 && n.dot(up) < 0.2)
       return Region::kUnderChin;
-    const bool torso =
-        segment == "chest" || segment == "shoulders" || segment == "abdomen" || segment == "pelvis";
+    const bool torso = segment == "chest" || segment == "shoulders" || segment == "abdomen" ||
+                       segment == "pelvis" || segment == "torso";
     for (int side = 0; side < 2; ++side) {
       const std::string prefix = side == 0 ? "left_" : "right_";
       const Eigen::Vector3d outward = side == 0 ? left : Eigen::Vector3d(-left);
@@ -157,6 +163,50 @@ std::vector<SurfaceSample> sampleBodySurface(const body_scan_driver::sim::Scene&
   };
 
   std::vector<SurfaceSample> samples;
+  if (skin) {
+    // The mesh's crotch: its pelvis part's lowest point near the midline.
+    const Eigen::Vector3d hip_mid =
+        0.5 * (joint(skeleton, "left_hip") + joint(skeleton, "right_hip"));
+    crotch_z = hip_z;
+    const auto& names = skin->partNames();
+    for (size_t t = 0; t < skin->triangles().size(); ++t)
+      if (names[skin->trianglePart()[t]] == "pelvis")
+        for (const int v : skin->triangles()[t]) {
+          const Eigen::Vector3d p = skin->vertices()[v].cast<double>();
+          if (std::abs((p - hip_mid).dot(left)) < 0.03) crotch_z = std::min(crotch_z, p.z());
+        }
+    // Each triangle split into n^2 equal sub-triangles (n ~ its size / spacing), one sample at
+    // each one's centroid.
+    for (size_t t = 0; t < skin->triangles().size(); ++t) {
+      const auto& tri = skin->triangles()[t];
+      const Eigen::Vector3d a = skin->vertices()[tri[0]].cast<double>(),
+                            b = skin->vertices()[tri[1]].cast<double>(),
+                            c = skin->vertices()[tri[2]].cast<double>();
+      const Eigen::Vector3d cross = (b - a).cross(c - a);
+      const double area = 0.5 * cross.norm();
+      if (!(area > 0)) continue;
+      const Eigen::Vector3d normal = cross.normalized();
+      const int n = std::max(1, static_cast<int>(std::ceil(std::sqrt(area) / spacing)));
+      const int part = skin->trianglePart().empty() ? 0 : skin->trianglePart()[t];
+      const std::string& segment = segments.empty() ? std::string() : segments[part];
+      auto add = [&](double u, double v) {
+        SurfaceSample sample;
+        sample.position = a + u / n * (b - a) + v / n * (c - a);
+        sample.normal = normal;
+        sample.area = area / (n * n);
+        sample.region = regionOf(segment, sample.position, normal);
+        sample.segment = part;
+        samples.push_back(sample);
+      };
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; i + j < n; ++j) {
+          add(i + 1.0 / 3, j + 1.0 / 3);
+          if (i + j < n - 1) add(i + 2.0 / 3, j + 2.0 / 3);
+        }
+    }
+    if (segment_names) *segment_names = segments;
+    return samples;
+  }
   const double golden = M_PI * (3 - std::sqrt(5.0));
   for (size_t i = 0; i < parts.size(); ++i) {
     const body_scan_driver::sim::Ellipsoid& part = *parts[i];

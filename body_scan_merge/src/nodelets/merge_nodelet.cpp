@@ -2,6 +2,7 @@
 // cropped to the scan volume, optional voxel grid and outlier removal) + /body_scan/scan_report.
 // A pair that never answers is reported after ~timeout and the scan is assembled without it.
 #include <body_scan_driver/ros/conversions.h>
+#include <body_scan_driver/ros/message_checks.h>
 #include <body_scan_merge/cloud_merge.h>
 #include <body_scan_merge/scan_assembler.h>
 #include <body_scan_msgs/PairCloud.h>
@@ -61,6 +62,11 @@ class MergeNodelet : public nodelet::Nodelet {
                                                   2, [this](const Part& part) { onPart(part); }));
     groups_sub_ = nh.subscribe<body_scan_msgs::TimingGroups>(
         "timing_groups", 1, [this](const body_scan_msgs::TimingGroupsConstPtr& groups) {
+          if (const auto problem = body_scan_driver::checkTimingGroups(*groups)) {
+            if (throttle_.shouldReport(*problem, ros::WallTime::now().toSec()))
+              NODELET_ERROR("timing_groups rejected: %s", problem->c_str());
+            return;
+          }
           std::lock_guard<std::mutex> lock(mutex_);
           groups_ = groups;
         });
@@ -71,7 +77,7 @@ class MergeNodelet : public nodelet::Nodelet {
         std::lock_guard<std::mutex> lock(mutex_);
         assembler_->poll(ros::WallTime::now().toSec(), done);
       }
-      for (auto& scan : done) publish(scan);
+      for (auto& scan : done) publishGuarded(scan);
     });
     NODELET_INFO(
         "merging scans of %zu pairs into %s (frame %s), pair timeout %.1f s, voxel %.4f m%s",
@@ -79,7 +85,15 @@ class MergeNodelet : public nodelet::Nodelet {
         options_.voxel_leaf, options_.outlier_removal ? ", outlier removal" : "");
   }
 
+  // A cloud that fails checkPairCloud never reaches the assembler; no exception leaves a
+  // callback (it would terminate the whole nodelet manager).
   void onPart(const Part& part) {
+    if (const auto problem = body_scan_driver::checkPairCloud(*part)) {
+      if (throttle_.shouldReport(part->pair_id + *problem, ros::WallTime::now().toSec()))
+        NODELET_ERROR("scan_points of '%s' (scan %u) rejected: %s", part->pair_id.c_str(),
+                      part->scan_id, problem->c_str());
+      return;
+    }
     std::vector<ScanAssembler<Part>::Scan> done;
     ScanAssembler<Part>::Arrival arrival;
     {
@@ -95,7 +109,17 @@ class MergeNodelet : public nodelet::Nodelet {
                             part->pair_id.c_str());
     else if (arrival == ScanAssembler<Part>::Arrival::kRepeated)
       NODELET_WARN("[%s] second cloud for scan %u: ignored", part->pair_id.c_str(), part->scan_id);
-    for (auto& scan : done) publish(scan);
+    for (auto& scan : done) publishGuarded(scan);
+  }
+
+  void publishGuarded(const ScanAssembler<Part>::Scan& scan) {
+    try {
+      publish(scan);
+    } catch (const std::exception& e) {
+      NODELET_ERROR_THROTTLE(5.0, "scan %u not merged: %s", scan.scan_id, e.what());
+    } catch (...) {
+      NODELET_ERROR_THROTTLE(5.0, "scan %u not merged: unknown error", scan.scan_id);
+    }
   }
 
   void publish(const ScanAssembler<Part>::Scan& scan) {
@@ -104,6 +128,11 @@ class MergeNodelet : public nodelet::Nodelet {
     report->scan_id = scan.scan_id;
     report->pairs_expected = assembler_->expectedPairs();
     report->pairs_missing = scan.missing;
+    // Every pair of a scan was triggered with the same walk id and pose index.
+    if (!scan.parts.empty()) {
+      report->walk_id = scan.parts.begin()->second->walk_id;
+      report->pose_index = scan.parts.begin()->second->pose_index;
+    }
     std::vector<CloudView> views;
     double slowest_pair = 0;
     ros::Time stamp;
@@ -124,13 +153,6 @@ class MergeNodelet : public nodelet::Nodelet {
                                "drivers with their factory tf or the world_alignment_publisher",
                                pair_id.c_str(), world_frame_.c_str(), cloud.header.frame_id.c_str(),
                                e.what(), scan.scan_id);
-        report->pairs_missing.push_back(pair_id);
-        continue;
-      }
-      if (cloud.point_step % 4 != 0 || cloud.fields.size() < 3 || cloud.fields[0].offset != 0 ||
-          cloud.data.size() < static_cast<size_t>(cloud.point_step) * cloud.width * cloud.height) {
-        NODELET_ERROR_THROTTLE(5.0, "[%s] cloud layout is not float x y z [rgb]: left out",
-                               pair_id.c_str());
         report->pairs_missing.push_back(pair_id);
         continue;
       }
@@ -187,8 +209,12 @@ class MergeNodelet : public nodelet::Nodelet {
       report->message += "; missing:";
       for (const std::string& id : report->pairs_missing) report->message += " " + id;
     }
-    cloud_pub_.publish(cloud);
+    if (report->walk_id != 0)
+      report->message += " (walk " + std::to_string(report->walk_id) + " pose " +
+                         std::to_string(report->pose_index) + ")";
+    // The report first: a consumer of the cloud finds its ids in the report of the same stamp.
     report_pub_.publish(report);
+    cloud_pub_.publish(cloud);
     if (report->pairs_missing.empty())
       NODELET_INFO("%s, merged in %.0f ms", report->message.c_str(),
                    1000 * report->stage_seconds.back());
@@ -197,6 +223,7 @@ class MergeNodelet : public nodelet::Nodelet {
   }
 
   std::string world_frame_;
+  body_scan_driver::ProblemThrottle throttle_;
   MergeOptions options_;
   std::mutex mutex_;
   std::unique_ptr<ScanAssembler<Part>> assembler_;

@@ -6,18 +6,29 @@
 // the ~rig_file poses (timing_groups.h), or ~groups. A pair whose calibration or pose is still
 // missing after ~plan_wait gets a group of its own (it conflicts with nobody else's slot) and is
 // named.
+//
+// Walk sessions: /body_scan/capture_walk (CaptureWalk.srv) scans the 4 representative poses of
+// thesis 5.3 in turn. Before each pose it prompts the operator on /body_scan/walk_progress
+// (latched WalkProgress: prompt, scanning, scanned, done or failed) and waits ~walk_pause
+// seconds, or, when the request asks for a trigger, for std_msgs/Empty on /body_scan/walk_trigger
+// (at most ~walk_trigger_timeout). Every pair's capture is stamped with the walk id and the pose
+// index (Capture.srv), which travel with the pattern sets to the scan report and the models.
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/rig_layout.h>
 #include <body_scan_merge/timing_groups.h>
 #include <body_scan_msgs/Capture.h>
+#include <body_scan_msgs/CaptureWalk.h>
 #include <body_scan_msgs/Scan.h>
 #include <body_scan_msgs/TimingGroups.h>
+#include <body_scan_msgs/WalkProgress.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
+#include <std_msgs/Empty.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
 #include <algorithm>
+#include <array>
 #include <condition_variable>
 #include <map>
 #include <memory>
@@ -74,6 +85,27 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     groups_pub_ = nh.advertise<body_scan_msgs::TimingGroups>("timing_groups", 1, /*latch=*/true);
     capture_srv_ = nh.advertiseService("capture", &ScanCoordinatorNodelet::onScan, this);
     if (!plan_.groups.empty()) publishPlan("given");
+    walk_pause_ = pnh.param("walk_pause", 3.0);
+    walk_trigger_timeout_ = pnh.param("walk_trigger_timeout", 120.0);
+    std::vector<std::string> prompts;
+    if (pnh.getParam("walk_prompts", prompts)) {
+      if (prompts.size() == walk_prompts_.size())
+        std::copy(prompts.begin(), prompts.end(), walk_prompts_.begin());
+      else
+        NODELET_ERROR("~walk_prompts needs %zu entries (one per pose), got %zu: using the default",
+                      walk_prompts_.size(), prompts.size());
+    }
+    // The walk service blocks for the whole walk while the trigger must still arrive: both on the
+    // multi-threaded queue.
+    ros::NodeHandle& mt = getMTNodeHandle();
+    progress_pub_ = mt.advertise<body_scan_msgs::WalkProgress>("walk_progress", 4, /*latch=*/true);
+    trigger_sub_ =
+        mt.subscribe<std_msgs::Empty>("walk_trigger", 4, [this](const std_msgs::EmptyConstPtr&) {
+          std::lock_guard<std::mutex> lock(trigger_mutex_);
+          ++triggers_;
+          trigger_.notify_all();
+        });
+    walk_srv_ = mt.advertiseService("capture_walk", &ScanCoordinatorNodelet::onCaptureWalk, this);
     master_watch_ = MasterWatch::acquire();  // registers again with a restarted master
     const double rate = pnh.param("rate", 0.0);
     if (rate > 0)
@@ -177,7 +209,106 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
                  origin.c_str(), plan_.groups.size() * group_seconds_, text.c_str());
   }
 
+  // Also run by the ~rate timer: no exception may escape into the nodelet manager.
   bool onScan(body_scan_msgs::Scan::Request& request, body_scan_msgs::Scan::Response& response) {
+    try {
+      scan(request.scan_id, 0, 0, response);
+    } catch (const std::exception& e) {
+      response.success = false;
+      response.message = std::string("scan failed: ") + e.what();
+      NODELET_ERROR("%s", response.message.c_str());
+    }
+    return true;
+  }
+
+  bool onCaptureWalk(body_scan_msgs::CaptureWalk::Request& request,
+                     body_scan_msgs::CaptureWalk::Response& response) {
+    try {
+      captureWalk(request, response);
+    } catch (const std::exception& e) {
+      response.success = false;
+      response.message = std::string("walk capture failed: ") + e.what();
+      NODELET_ERROR("%s", response.message.c_str());
+    }
+    return true;
+  }
+
+  void captureWalk(const body_scan_msgs::CaptureWalk::Request& request,
+                   body_scan_msgs::CaptureWalk::Response& response) {
+    std::lock_guard<std::mutex> walk_lock(walk_mutex_);  // one walk at a time
+    response.walk_id = next_walk_id_ = request.walk_id != 0 ? request.walk_id : next_walk_id_ + 1;
+    const double pause = request.pause >= 0 ? request.pause : walk_pause_;
+    body_scan_msgs::WalkProgress progress;
+    progress.walk_id = response.walk_id;
+    progress.poses = static_cast<uint8_t>(walk_prompts_.size());
+    const auto report = [&](uint8_t state, const std::string& prompt) {
+      progress.header.stamp = ros::Time::now();
+      progress.state = state;
+      progress.prompt = prompt;
+      progress_pub_.publish(progress);
+      NODELET_INFO("walk %u: %s", progress.walk_id, prompt.c_str());
+    };
+    std::set<std::string> missing;
+    for (uint8_t pose = 1; pose <= progress.poses; ++pose) {
+      progress.pose_index = pose;
+      progress.scan_id = 0;
+      progress.waiting_for_trigger = request.trigger;
+      const std::string step =
+          "pose " + std::to_string(pose) + " of " + std::to_string(progress.poses);
+      uint64_t triggers_before;
+      {
+        std::lock_guard<std::mutex> lock(trigger_mutex_);
+        triggers_before = triggers_;
+      }
+      char when[64];
+      std::snprintf(when, sizeof when, " (scan in %.1f s)", pause);
+      report(body_scan_msgs::WalkProgress::PROMPT,
+             step + ": " + walk_prompts_[pose - 1] +
+                 (request.trigger ? std::string(" (then trigger the scan)") : when));
+      progress.waiting_for_trigger = false;
+      if (request.trigger) {
+        std::unique_lock<std::mutex> lock(trigger_mutex_);
+        if (!trigger_.wait_for(lock, std::chrono::duration<double>(walk_trigger_timeout_),
+                               [&] { return triggers_ > triggers_before || !ros::ok(); }) ||
+            !ros::ok()) {
+          lock.unlock();
+          response.message = "walk " + std::to_string(response.walk_id) +
+                             " abandoned: no trigger " + "on " + trigger_sub_.getTopic() +
+                             " within ~walk_trigger_timeout (" +
+                             std::to_string(walk_trigger_timeout_) + " s) for " + step +
+                             "; publish std_msgs/Empty there when the subject is in pose";
+          report(body_scan_msgs::WalkProgress::FAILED, response.message);
+          return;
+        }
+      } else if (pause > 0) {
+        ros::WallDuration(pause).sleep();
+      }
+      body_scan_msgs::Scan::Response scanned;
+      report(body_scan_msgs::WalkProgress::SCANNING, step + ": scanning");
+      scan(0, response.walk_id, pose, scanned);
+      progress.scan_id = scanned.scan_id;
+      response.scan_ids.push_back(scanned.scan_id);
+      missing.insert(scanned.pairs_missing.begin(), scanned.pairs_missing.end());
+      if (scanned.groups.empty()) {  // no plan: nothing was captured
+        response.message = "walk " + std::to_string(response.walk_id) + " abandoned at " + step +
+                           ": " + scanned.message;
+        report(body_scan_msgs::WalkProgress::FAILED, response.message);
+        return;
+      }
+      report(body_scan_msgs::WalkProgress::SCANNED, step + ": " + scanned.message);
+    }
+    response.pairs_missing.assign(missing.begin(), missing.end());
+    response.success = missing.empty();
+    response.message = "walk " + std::to_string(response.walk_id) + ": " +
+                       std::to_string(response.scan_ids.size()) + " poses scanned";
+    for (const std::string& id : response.pairs_missing) response.message += "; missing " + id;
+    progress.scan_id = 0;
+    report(body_scan_msgs::WalkProgress::DONE, response.message);
+  }
+
+  // One whole-body scan (walk_id, pose_index: its walk session, 0 for none).
+  void scan(uint32_t scan_id, uint32_t walk_id, uint8_t pose_index,
+            body_scan_msgs::Scan::Response& response) {
     std::lock_guard<std::mutex> lock(scan_mutex_);  // one scan at a time
     // Drivers write their factory calibration and announce their pose as they come up: wait
     // up to ~plan_wait for the whole rig before giving up.
@@ -190,17 +321,17 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
         response.success = false;
         response.message = std::string("cannot plan the timing groups: ") + e.what();
         NODELET_ERROR("%s", response.message.c_str());
-        return true;
+        return;
       }
     }
-    next_scan_id_ = request.scan_id != 0 ? request.scan_id : next_scan_id_ + 1;
+    next_scan_id_ = scan_id != 0 ? scan_id : next_scan_id_ + 1;
     response.scan_id = next_scan_id_;
     const ros::WallTime start = ros::WallTime::now();
     for (const auto& group : plan_.groups) {
       std::string line;
       for (const std::string& id : group) line += (line.empty() ? "" : " ") + id;
       response.groups.push_back(line);
-      captureGroup(group, response.scan_id, response.pairs_missing);
+      captureGroup(group, response.scan_id, walk_id, pose_index, response.pairs_missing);
     }
     std::sort(response.pairs_missing.begin(), response.pairs_missing.end());
     response.simulated_capture_seconds = plan_.groups.size() * group_seconds_;
@@ -215,12 +346,11 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
       NODELET_INFO("%s", response.message.c_str());
     else
       NODELET_WARN("%s", response.message.c_str());
-    return true;
   }
 
   // Triggers every pair of the group at once and waits for all (at most pair_timeout).
-  void captureGroup(const std::vector<std::string>& group, uint32_t scan_id,
-                    std::vector<std::string>& missing) {
+  void captureGroup(const std::vector<std::string>& group, uint32_t scan_id, uint32_t walk_id,
+                    uint8_t pose_index, std::vector<std::string>& missing) {
     struct Call {
       std::mutex mutex;
       std::condition_variable done;
@@ -231,9 +361,11 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     call->pending = group.size();
     for (const std::string& id : group) {
       // Detached: a pair that never answers must not block the scan; it reports on its own.
-      std::thread([this, call, id, group, scan_id] {
+      std::thread([this, call, id, group, scan_id, walk_id, pose_index] {
         body_scan_msgs::Capture capture;
         capture.request.scan_id = scan_id;
+        capture.request.walk_id = walk_id;
+        capture.request.pose_index = pose_index;
         for (const std::string& other : group)
           if (other != id) capture.request.active_pairs.push_back(other);
         const std::string service = ros::names::append(root_, id + "/driver/capture");
@@ -288,6 +420,20 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
   TimingPlan plan_;
   uint32_t next_scan_id_ = 0;
   std::mutex scan_mutex_;
+  // Walk sessions
+  double walk_pause_ = 3.0, walk_trigger_timeout_ = 120.0;
+  std::array<std::string, 4> walk_prompts_{
+      "right heel strike: right leg and left arm forward, longest stride",
+      "right mid-stance: weight on the right leg, left leg swinging past it",
+      "left heel strike: left leg and right arm forward, longest stride",
+      "left mid-stance: weight on the left leg, right leg swinging past it"};
+  uint32_t next_walk_id_ = 0;
+  std::mutex walk_mutex_, trigger_mutex_;
+  std::condition_variable trigger_;
+  uint64_t triggers_ = 0;
+  ros::Publisher progress_pub_;
+  ros::Subscriber trigger_sub_;
+  ros::ServiceServer walk_srv_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Publisher groups_pub_;

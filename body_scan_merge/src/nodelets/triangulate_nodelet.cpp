@@ -3,6 +3,7 @@
 // Decoding and triangulation are body_scan_driver's core functions; this is the ROS wrapper.
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/ros/conversions.h>
+#include <body_scan_driver/ros/message_checks.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
 #include <body_scan_msgs/PairCloud.h>
@@ -17,7 +18,6 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
-#include <optional>
 #include <pluginlib/class_list_macros.hpp>
 
 #include "master_watch.h"
@@ -25,14 +25,10 @@
 namespace body_scan_merge {
 namespace {
 
-// A cv::Mat header over an image message's bytes (no copy); nullopt if the encoding differs.
-std::optional<cv::Mat> view(const sensor_msgs::Image& image, const std::string& encoding,
-                            int type) {
-  if (image.encoding != encoding ||
-      image.data.size() < static_cast<size_t>(image.step) * image.height)
-    return std::nullopt;
-  return cv::Mat(image.height, image.width, type, const_cast<uint8_t*>(image.data.data()),
-                 image.step);
+// A cv::Mat header over an image message's bytes (no copy); the image has passed checkImage.
+cv::Mat view(const sensor_msgs::Image& image, int type) {
+  return cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), type,
+                 const_cast<uint8_t*>(image.data.data()), image.step);
 }
 
 float packRgb(uint8_t r, uint8_t g, uint8_t b) {  // PCL's packed-float rgb field
@@ -100,30 +96,21 @@ class TriangulateNodelet : public nodelet::Nodelet {
     }
   }
 
+  // Nothing of a set that fails checkPatternSet is used; no exception leaves the callback
+  // (it would terminate the whole nodelet manager).
   void onPatternSet(const body_scan_msgs::PatternSet::ConstPtr& set) {
-    const std::string& pair = set->pair_id;
-    if (set->scheme != "gray") {
-      NODELET_ERROR_THROTTLE(5.0,
-                             "[%s] pattern scheme '%s' is not supported; the driver must "
-                             "send scheme 'gray'",
-                             pair.c_str(), set->scheme.c_str());
+    if (const auto problem = body_scan_driver::checkPatternSet(*set)) {
+      if (throttle_.shouldReport(set->pair_id + *problem, ros::WallTime::now().toSec()))
+        NODELET_ERROR("pattern set of '%s' (scan %u) rejected: %s", set->pair_id.c_str(),
+                      set->scan_id, problem->c_str());
       return;
     }
-    std::vector<cv::Mat> frames;
-    for (size_t i = 0; i < set->frames.size(); ++i) {
-      const auto frame = view(set->frames[i], sensor_msgs::image_encodings::MONO8, CV_8UC1);
-      if (!frame) {
-        NODELET_ERROR_THROTTLE(5.0,
-                               "[%s] frame %zu has encoding '%s' or a short buffer; "
-                               "pattern frames must be complete mono8 images",
-                               pair.c_str(), i, set->frames[i].encoding.c_str());
-        return;
-      }
-      frames.push_back(*frame);
-    }
-    if (!ensureCalibration(pair)) return;
-    const ros::WallTime start = ros::WallTime::now();
+    const std::string& pair = set->pair_id;
     try {
+      if (!ensureCalibration(pair)) return;
+      const ros::WallTime start = ros::WallTime::now();
+      std::vector<cv::Mat> frames;
+      for (const sensor_msgs::Image& frame : set->frames) frames.push_back(view(frame, CV_8UC1));
       if (!decoder_ || decoder_->layout().bits() != set->bits ||
           decoder_->layout().inverseFrames() != set->inverse_frames)
         decoder_ = std::make_unique<body_scan_driver::StripeDecoder>(
@@ -133,6 +120,9 @@ class TriangulateNodelet : public nodelet::Nodelet {
     } catch (const std::exception& e) {
       NODELET_ERROR_THROTTLE(5.0, "[%s] scan %u not triangulated: %s", pair.c_str(), set->scan_id,
                              e.what());
+    } catch (...) {
+      NODELET_ERROR_THROTTLE(5.0, "[%s] scan %u not triangulated: unknown error", pair.c_str(),
+                             set->scan_id);
     }
   }
 
@@ -142,6 +132,8 @@ class TriangulateNodelet : public nodelet::Nodelet {
     pair_cloud->header = set.header;
     pair_cloud->pair_id = set.pair_id;
     pair_cloud->scan_id = set.scan_id;
+    pair_cloud->walk_id = set.walk_id;
+    pair_cloud->pose_index = set.pose_index;
     sensor_msgs::PointCloud2* cloud = &pair_cloud->cloud;
     cloud->header = set.header;
     body_scan_driver::layoutFloatCloud(*cloud, size.width, size.height, /*rgb=*/true);
@@ -158,12 +150,12 @@ class TriangulateNodelet : public nodelet::Nodelet {
         if (std::isfinite(point.z())) point = residual * point;
       }
     }
-    // Colour from the texture where it matches the frames, else white.
-    const auto texture = view(set.texture, sensor_msgs::image_encodings::RGB8, CV_8UC3);
-    const bool coloured = texture && texture->size() == size;
+    // Colour from the texture (checked: the frames' size), else white.
+    const bool coloured = !set.texture.data.empty();
+    const cv::Mat texture = coloured ? view(set.texture, CV_8UC3) : cv::Mat();
     for (int v = 0; v < size.height; ++v)
       for (int u = 0; u < size.width; ++u) {
-        const cv::Vec3b c = coloured ? texture->at<cv::Vec3b>(v, u) : cv::Vec3b(255, 255, 255);
+        const cv::Vec3b c = coloured ? texture.at<cv::Vec3b>(v, u) : cv::Vec3b(255, 255, 255);
         points[4 * (static_cast<size_t>(v) * size.width + u) + 3] = packRgb(c[0], c[1], c[2]);
       }
     pair_cloud->processing_seconds = (ros::WallTime::now() - start).toSec();
@@ -196,6 +188,7 @@ class TriangulateNodelet : public nodelet::Nodelet {
   std::optional<FileStamp> rejected_stamp_;
   std::unique_ptr<body_scan_driver::StripeDecoder> decoder_;
   body_scan_driver::StripeImage stripes_;
+  body_scan_driver::ProblemThrottle throttle_;
   ros::Publisher points_pub_, scan_points_pub_, stripe_pub_;
   ros::Subscriber pattern_sub_;
   std::shared_ptr<MasterWatch> master_watch_;

@@ -7,6 +7,7 @@
 #include <body_gait_id/eval/recognition_metrics.h>
 #include <body_gait_id/eval/recognition_report.h>
 #include <body_gait_id/gait_features.h>
+#include <body_gait_model/eval/body_cloud_sampler.h>
 #include <body_gait_model/gait_cycle.h>
 #include <body_scan_driver/sim/human_body.h>
 
@@ -48,6 +49,8 @@ struct ScanOptions {
   int sampler_columns = 320;     // ray grid per viewpoint (sampler only)
   double sampler_noise = 0.002;  // m along the ray (sampler only)
   int threads = 2;
+  // The simulated body scanned: ellipsoids or the mesh human (body_gait_model::eval::BodyKind).
+  body_gait_model::eval::BodyKind body = body_gait_model::eval::BodyKind::kEllipsoid;
   std::string cache_folder;  // empty: no cache
   bool progress = true;      // one line per scan on stderr
 };

@@ -6,6 +6,7 @@
 
 #include <body_gait_model/kinematic_model.h>
 #include <body_scan_driver/sim/human_body.h>
+#include <body_scan_driver/sim/mesh_human.h>
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -14,6 +15,26 @@
 #include <vector>
 
 namespace body_gait_model::eval {
+
+// The simulator's body a spec is dressed with: 32 ellipsoids (human_body.h) or the skinned mesh
+// human (mesh_human.h, posed by the same angles or BVH frame).
+enum class BodyKind { kEllipsoid, kMesh };
+// "ellipsoid" or "mesh"; throws std::invalid_argument naming the accepted values.
+BodyKind parseBodyKind(const std::string& name);
+const char* bodyKindName(BodyKind kind);
+
+// The mesh person of a spec made for the ellipsoid body: its stature; female where the hips are
+// 5 % wider than the chest (gait_subjects' women); BMI 22 (women 21) scaled by the square of the
+// waist girth over fromStature's, kept in the kit's span; age 30.
+body_scan_driver::sim::MeshPersonSpec meshPersonOf(
+    const body_scan_driver::sim::HumanBodySpec& spec);
+
+// Adds the spec's body of that kind and its true skeleton to the scene; returns the spec as
+// placed (a mesh's lengths are the mesh's own unless the spec has BVH segment frames). Mesh rigs
+// are built once per person (thread-safe cache).
+body_scan_driver::sim::HumanBodySpec addSimulatedBody(
+    const body_scan_driver::sim::HumanBodySpec& spec, BodyKind kind,
+    body_scan_driver::sim::Scene& scene);
 
 struct ScanRig {
   int poles = 3;               // evenly spaced around the subject
@@ -28,6 +49,7 @@ struct ScanRig {
   double min_albedo = 0.0;
   std::vector<int> missing_viewpoints;  // indices pole * heights.size() + height: no data
   std::uint32_t seed = 1;
+  BodyKind body = BodyKind::kEllipsoid;  // the body the rays hit
 };
 
 struct SampledBody {
@@ -65,6 +87,9 @@ struct FitErrors {
   std::map<std::string, Eigen::Vector3d> joint_offset;
   std::map<std::string, double> segment_length_bias;
   double mean_joint_error = 0, mean_length_error = 0, mean_swing_error = 0;
+  // Mean joint error after the rigid motion that best aligns the fitted joints with the true
+  // ones (rotation + translation removed, as pose-estimation papers report it).
+  double procrustes_joint_error = 0;
   bool front_right = false;  // fitted front within 45 degrees of the true heading
   bool left_right = false;   // the fitted left arm/leg is the subject's left (true left side)
 };

@@ -15,6 +15,7 @@ struct FullScannerOptions {
   std::string rig_file;                    // empty: body_scan_driver's thesis rig (rospack)
   std::vector<std::string> missing_pairs;  // pairs that deliver nothing (e.g. "pole_c/pair_2")
   double floor_albedo = 0.3;               // the floor the subject stands on (cropped away)
+  BodyKind body = BodyKind::kEllipsoid;    // the simulated body scanned
 };
 
 // Throws std::invalid_argument naming an unknown missing pair, std::runtime_error naming a rig

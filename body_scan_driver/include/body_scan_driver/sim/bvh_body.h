@@ -7,6 +7,7 @@
 #include <body_scan_driver/sim/human_body.h>
 
 #include <array>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -95,7 +96,10 @@ void moveBody(HumanBodySpec& spec, double heading, const Eigen::Vector3d& positi
 // (files, relative to base_dir), frame (1-based) or gait_pose (1-4, thesis 5.3, picked), and
 // human's name, stature (girths; default from the legs), position, heading_deg, materials.
 // Throws std::runtime_error naming `where` and the key.
-HumanBodySpec bvhHumanFromYaml(const YAML::Node& object, const std::string& where,
-                               const std::string& base_dir);
+// body_for (optional): the body's lengths and girths from the stature the legs imply, instead
+// of the 'stature' key (the mesh human's: its own skeleton, sim/mesh_human.h).
+HumanBodySpec bvhHumanFromYaml(
+    const YAML::Node& object, const std::string& where, const std::string& base_dir,
+    const std::function<Anthropometry(double estimated_stature)>& body_for = {});
 
 }  // namespace body_scan_driver::sim

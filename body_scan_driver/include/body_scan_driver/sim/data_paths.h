@@ -3,6 +3,7 @@
 // Header-only, so that the simulator library stays free of ROS: whoever includes it links roslib.
 #pragma once
 
+#include <body_scan_driver/sim/mesh_human.h>
 #include <body_scan_driver/tools/package_file.h>
 
 #include <cstdlib>
@@ -22,6 +23,12 @@ inline std::string driverConfigDir() { return driverPackageDir() + "/config"; }
 inline std::string cmuWalksDir() {
   if (const char* dir = std::getenv("BODY_SCAN_BVH_DIR")) return dir;
   return driverPackageDir() + "/data/cmu_walks";
+}
+
+// The mesh human's body kit (data/mesh_human/README.md: license, attribution) and retarget map.
+inline MeshHumanFiles meshHumanFiles() {
+  return {driverPackageDir() + "/data/mesh_human/mesh_human.bin",
+          driverConfigDir() + "/mesh/mesh_retarget.yaml"};
 }
 
 }  // namespace body_scan_driver::sim

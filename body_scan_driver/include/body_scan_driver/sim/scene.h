@@ -30,9 +30,11 @@ struct Hit {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();           // unit, outward
   const Surface* surface = nullptr;
   int surface_index = -1;  // into Scene::surfaces(); set by Scene::intersect
+  int primitive = -1;      // the triangle of a TriangleMesh; -1 for analytic surfaces
 };
 
-// One primitive. Implementations: Plane, CheckerboardPlane, Sphere, Cylinder, Ellipsoid.
+// One primitive. Implementations: Plane, CheckerboardPlane, Sphere, Cylinder, Ellipsoid,
+// TriangleMesh (triangle_mesh.h).
 class Surface {
  public:
   explicit Surface(Material material) : material_(material) {}
@@ -40,10 +42,30 @@ class Surface {
 
   // Nearest intersection with distance in (t_min, t_max); fills hit and returns true if any.
   virtual bool intersect(const Ray& ray, double t_min, double t_max, Hit& hit) const = 0;
+  // Nearest hits of many rays: hits[i] is replaced where the surface has a hit in
+  // (t_min, hits[i].distance). TriangleMesh casts them as packets.
+  virtual void intersectMany(const Ray* rays, int count, double t_min, Hit* hits) const {
+    for (int i = 0; i < count; ++i) {
+      Hit hit;
+      if (intersect(rays[i], t_min, hits[i].distance, hit)) hits[i] = hit;
+    }
+  }
+  // Whether anything of the surface lies on the ray in (t_min, t_max) (shadow test).
+  virtual bool occludes(const Ray& ray, double t_min, double t_max) const {
+    Hit hit;
+    return intersect(ray, t_min, t_max, hit);
+  }
   // Albedo at a point on the surface; patterned surfaces (checkerboards) override it.
   virtual double albedoAt(const Eigen::Vector3d& /*point*/) const { return material_.albedo; }
   virtual Eigen::Vector3d colorAt(const Eigen::Vector3d& /*point*/) const {
     return material_.color;
+  }
+  // The same at a hit of this surface (meshes have a material per triangle).
+  virtual double albedoAtHit(const Hit& /*hit*/, const Eigen::Vector3d& point) const {
+    return albedoAt(point);
+  }
+  virtual Eigen::Vector3d colorAtHit(const Hit& /*hit*/, const Eigen::Vector3d& point) const {
+    return colorAt(point);
   }
   // True for printed patterns (checker grids, markers): the renderer averages their albedo over
   // 4x4 samples of the pixel's area so pattern edges keep their subpixel position; plain
@@ -156,6 +178,8 @@ class Scene {
   // Nearest hit along the ray in (t_min, t_max).
   bool intersect(const Ray& ray, Hit& hit, double t_min = 1e-6,
                  double t_max = std::numeric_limits<double>::infinity()) const;
+  // intersect() for many rays at once (a camera row): hits[i].surface == nullptr = no hit.
+  void intersectMany(const Ray* rays, int count, Hit* hits, double t_min = 1e-6) const;
   // True if anything lies strictly between from and to (shadow test).
   bool occluded(const Eigen::Vector3d& from, const Eigen::Vector3d& to) const;
 

@@ -74,6 +74,7 @@ VirtualPairConfig loadVirtualPairConfig(const std::string& path);
 // Exact ground truth of one render. Only the simulator, tests and evaluation tools use it.
 struct GroundTruth {
   cv::Mat3f points;   // camera-frame point seen at each pixel centre; NaN = nothing
+  cv::Mat3f normals;  // camera-frame outward unit normal there (meshes: interpolated); NaN
   cv::Mat1f stripe;   // continuous stripe coordinate lighting it; NaN = unlit/shadow
   cv::Mat1i surface;  // index into Scene::surfaces(); -1 = nothing
   std::vector<SkeletonJoint> skeleton;  // world frame
