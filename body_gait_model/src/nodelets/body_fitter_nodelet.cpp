@@ -7,7 +7,7 @@
 // Walk sessions: a cloud's scan id, walk id and pose index are in its ScanReport
 // (/body_scan/scan_report, same header stamp). While a report publisher is connected, a cloud
 // waits up to ~report_wait for its report. A single scan is fitted at once; a walk's 4 clouds
-// are collected and fitted together (fitWalk), then its 4 models and its gait cycle
+// are collected and fitted together (fitWalkTimed), then its 4 models and its gait cycle
 // (/body_gait/gait_sequence, eqs 5.11-5.13) are published.
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/fit_options_file.h>
@@ -53,7 +53,7 @@ TimedFit fitScan(const Cloud& cloud, const FitOptions& options) {
 
 // The fits of a walk's 4 clouds (poses s1..s4). For now each cloud is fitted on its own with the
 // single-scan fit; a walk-level fit (the 4 clouds fitted together) replaces this one function.
-std::vector<TimedFit> fitWalk(const std::vector<Cloud>& clouds, const FitOptions& options) {
+std::vector<TimedFit> fitWalkTimed(const std::vector<Cloud>& clouds, const FitOptions& options) {
   std::vector<TimedFit> fits;
   for (const Cloud& cloud : clouds) fits.push_back(fitScan(cloud, options));
   return fits;
@@ -195,7 +195,7 @@ class BodyFitterNodelet : public nodelet::Nodelet {
       }
       const std::vector<TimedFit> fits = msgs.size() == 1
                                              ? std::vector<TimedFit>{fitScan(clouds[0], options_)}
-                                             : fitWalk(clouds, options_);
+                                             : fitWalkTimed(clouds, options_);
       for (std::size_t i = 0; i < fits.size(); ++i) publish(fits[i], *msgs[i], ids[i], clouds[i]);
       if (fits.size() == static_cast<std::size_t>(kWalkPoses))
         publishCycle(fits, *msgs.back(), ids[0]);
