@@ -3,8 +3,8 @@
 #include <body_gait_id/feature_noise_file.h>
 #include <body_gait_id/gallery_database.h>
 #include <body_gait_id/models_file.h>
-#include <body_scan_driver/atomic_file.h>
 #include <body_gait_id/walk_identification.h>
+#include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/tools/command_line.h>
 
 #include <cstdio>
