@@ -16,7 +16,7 @@
 #                BENCH_ARGS="..." is passed to each (e.g. --benchmark_filter=plane/hot)
 #   make soak    build + scripts/soak.py: SOAK_SCANS (default 300) consecutive scans of the
 #                headless simulated scanner; latency p50/p99, every node's RSS, missing scans
-#                (report build/soak/soak.yaml); not part of `make test` (about 20 min)
+#                (report build/soak/soak.yaml); not part of `make test` (about 25 min)
 #   make format  clang-format -i every C++ file of the packages
 #   make fuzz    build every libFuzzer target (fuzz_* of the packages) with clang, ASan and
 #                UBSan in build/sanitize and run each FUZZ_SECONDS (default 60) from its checked-

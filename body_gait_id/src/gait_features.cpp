@@ -156,29 +156,48 @@ FeatureNormalization FeatureMoments::normalization() const {
   return n;
 }
 
+bool hasDynamic(FeatureSet set) {
+  return set == FeatureSet::kDynamic || set == FeatureSet::kDynamicStatic ||
+         set == FeatureSet::kDynamicStaticShape || set == FeatureSet::kDynamicShape;
+}
+bool hasStatic(FeatureSet set) {
+  return set == FeatureSet::kDynamicStatic || set == FeatureSet::kDynamicStaticShape ||
+         set == FeatureSet::kStatic || set == FeatureSet::kStaticShape;
+}
+bool hasShape(FeatureSet set) {
+  return set == FeatureSet::kDynamicStaticShape || set == FeatureSet::kShape ||
+         set == FeatureSet::kStaticShape || set == FeatureSet::kDynamicShape;
+}
+
 int FeatureNormalization::size(FeatureSet set) const {
-  Eigen::Index n = mean_dynamic.size();
-  if (set != FeatureSet::kDynamic) n += mean_static.size();
-  if (set == FeatureSet::kDynamicStaticShape) n += kShapeSize;
+  Eigen::Index n = 0;
+  if (hasDynamic(set)) n += mean_dynamic.size();
+  if (hasStatic(set)) n += mean_static.size();
+  if (hasShape(set)) n += kShapeSize;
   return static_cast<int>(n);
 }
 
 Eigen::VectorXd FeatureNormalization::normalized(const GaitFeatures& f, FeatureSet set) const {
   checkSizes("the dynamic feature", f.dynamic, mean_dynamic);
   Eigen::VectorXd phi(size(set));
-  const Eigen::Index nd = mean_dynamic.size(), ns = mean_static.size();
-  phi.head(nd) = (f.dynamic - mean_dynamic).cwiseQuotient(sigma_dynamic);
-  if (set != FeatureSet::kDynamic) {
-    checkSizes("the static feature", f.statics, mean_static);
-    phi.segment(nd, ns) = (f.statics - mean_static).cwiseQuotient(sigma_static);
+  Eigen::Index at = 0;
+  if (hasDynamic(set)) {
+    phi.segment(at, mean_dynamic.size()) = (f.dynamic - mean_dynamic).cwiseQuotient(sigma_dynamic);
+    at += mean_dynamic.size();
   }
-  if (set == FeatureSet::kDynamicStaticShape) {
+  if (hasStatic(set)) {
+    checkSizes("the static feature", f.statics, mean_static);
+    phi.segment(at, mean_static.size()) = (f.statics - mean_static).cwiseQuotient(sigma_static);
+    at += mean_static.size();
+  }
+  if (hasShape(set)) {
     if (mean_shape.size() != kShapeSize)
       throw std::invalid_argument(
-          "gait features: the dynamic_static_shape feature set needs 3D features with body shape "
-          "in the gallery; use dynamic or dynamic_static with the 2D views");
+          "gait features: the feature sets with body shape (dynamic_static_shape, shape, "
+          "static_shape, dynamic_shape) need 3D features with body shape in the gallery; use "
+          "dynamic or dynamic_static with the 2D views");
     checkSizes("the shape feature", f.shape, mean_shape);
-    phi.tail(kShapeSize) = (f.shape - mean_shape).cwiseQuotient(sigma_shape);
+    phi.segment(at, kShapeSize) = (f.shape - mean_shape).cwiseQuotient(sigma_shape);
   }
   if (weights.size() > 0) {
     if (weights.size() != phi.size())
@@ -205,13 +224,19 @@ Eigen::VectorXd noiseWeights(const FeatureNormalization& normalization, const Fe
     return Eigen::VectorXd(sigma.cwiseQuotient(sd.cwiseMax(1e-9)));
   };
   Eigen::VectorXd w(normalization.size(set));
-  const Eigen::Index nd = normalization.sigma_dynamic.size(),
-                     ns = normalization.sigma_static.size();
-  w.head(nd) = ratio("dynamic", normalization.sigma_dynamic, noise.dynamic);
-  if (set != FeatureSet::kDynamic)
-    w.segment(nd, ns) = ratio("static", normalization.sigma_static, noise.statics);
-  if (set == FeatureSet::kDynamicStaticShape)
-    w.tail(kShapeSize) = ratio("shape", normalization.sigma_shape, noise.shape);
+  Eigen::Index at = 0;
+  if (hasDynamic(set)) {
+    const Eigen::Index n = normalization.sigma_dynamic.size();
+    w.segment(at, n) = ratio("dynamic", normalization.sigma_dynamic, noise.dynamic);
+    at += n;
+  }
+  if (hasStatic(set)) {
+    const Eigen::Index n = normalization.sigma_static.size();
+    w.segment(at, n) = ratio("static", normalization.sigma_static, noise.statics);
+    at += n;
+  }
+  if (hasShape(set))
+    w.segment(at, kShapeSize) = ratio("shape", normalization.sigma_shape, noise.shape);
   return w;
 }
 

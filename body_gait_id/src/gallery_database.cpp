@@ -194,6 +194,14 @@ const char* featureSetName(FeatureSet set) {
       return "dynamic";
     case FeatureSet::kDynamicStaticShape:
       return "dynamic_static_shape";
+    case FeatureSet::kStatic:
+      return "static";
+    case FeatureSet::kShape:
+      return "shape";
+    case FeatureSet::kStaticShape:
+      return "static_shape";
+    case FeatureSet::kDynamicShape:
+      return "dynamic_shape";
     case FeatureSet::kDynamicStatic:
       break;
   }
@@ -201,11 +209,14 @@ const char* featureSetName(FeatureSet set) {
 }
 
 FeatureSet parseFeatureSet(const std::string& name) {
-  for (FeatureSet set :
-       {FeatureSet::kDynamic, FeatureSet::kDynamicStatic, FeatureSet::kDynamicStaticShape})
+  for (FeatureSet set : {FeatureSet::kDynamic, FeatureSet::kDynamicStatic,
+                         FeatureSet::kDynamicStaticShape, FeatureSet::kStatic, FeatureSet::kShape,
+                         FeatureSet::kStaticShape, FeatureSet::kDynamicShape})
     if (name == featureSetName(set)) return set;
-  throw std::invalid_argument("unknown feature set '" + name +
-                              "': use dynamic, dynamic_static or dynamic_static_shape");
+  throw std::invalid_argument(
+      "unknown feature set '" + name +
+      "': use dynamic, dynamic_static or dynamic_static_shape (or static, shape, static_shape, "
+      "dynamic_shape)");
 }
 
 void GalleryDatabase::fail(int code, const std::string& what) const {

@@ -226,62 +226,6 @@ LimbFit fitLimb(std::vector<Eigen::Vector3d> points, const std::vector<Eigen::Ve
   return limb;
 }
 
-// Legs bent as in walking (a swing knee flexes 60-70 deg, a heel-strike foot points its toes
-// up, a toe-off foot down): the split along the leg's principal axis mixes thigh, shank and foot
-// points. Points are told apart by their distance from the hip instead, which a bend does not
-// change: the thigh's core lies at 0.4-0.85 of the standard thigh length (Drillis & Contini:
-// 0.245 of the stature) from the hip, the shank's at 1.2 of it to 0.8 of the standard shank
-// (0.246) beyond the knee, the foot and the knee outside both. The shank line comes from its
-// core; the knee is where the two core lines meet when the leg bends clearly, else the split's
-// knee moved onto that line (straight legs: the proportion); the sole is as far along the shank
-// line as the points within the shank's radius reach (the heel: toes sticking out forward or
-// down stay out).
-void placeBentKneeAndSole(LimbFit& leg, const std::vector<Eigen::Vector3d>& points,
-                          const Eigen::Vector3d& hip, double stature,
-                          const BentKneeOptions& options) {
-  const double thigh = 0.245 * stature, shank = 0.246 * stature;
-  LineMoments thigh_core, shank_core;
-  for (const auto& p : points) {
-    const double d = (p - hip).norm();
-    if (d > 0.4 * thigh && d < 0.85 * thigh) thigh_core.add(p);
-    if (d > 1.2 * thigh && d < thigh + 0.8 * shank) shank_core.add(p);
-  }
-  if (thigh_core.count < 30 || shank_core.count < 30) return;
-  const Line thigh_line = thigh_core.fit(-Eigen::Vector3d::UnitY());
-  const Line shank_line = shank_core.fit(-Eigen::Vector3d::UnitY());
-  auto onLine = [](const Line& line, const Eigen::Vector3d& p) {
-    return Eigen::Vector3d(line.point + (p - line.point).dot(line.direction) * line.direction);
-  };
-  const double bend =
-      std::acos(std::clamp(thigh_line.direction.dot(shank_line.direction), -1.0, 1.0));
-  const double weight = std::clamp((bend - options.straight_deg * kPi / 180) /
-                                       ((options.clear_deg - options.straight_deg) * kPi / 180),
-                                   0.0, 1.0);
-  Eigen::Vector3d knee = onLine(shank_line, leg.middle_joint);
-  Eigen::Vector3d by_bend;
-  if (weight > 0 && closestApproach(thigh_line, shank_line, &by_bend) &&
-      std::abs((by_bend - hip).norm() - thigh) < 0.35 * thigh)
-    knee = weight * by_bend + (1 - weight) * knee;
-  // The shank's radius: the median distance of its core to the line.
-  std::vector<double> distances;
-  for (const auto& p : points) {
-    const double d = (p - hip).norm();
-    if (d > 1.2 * thigh && d < thigh + 0.8 * shank) distances.push_back(shank_line.distance(p));
-  }
-  const double radius = quantile(distances, 0.5);
-  std::vector<double> reach;
-  for (const auto& p : points)
-    if (shank_line.distance(p) < radius + options.sole_margin &&
-        (p - knee).dot(shank_line.direction) > 0)
-      reach.push_back((p - knee).dot(shank_line.direction));
-  if (reach.size() < 30) return;
-  leg.middle_joint = knee;
-  leg.lower = shank_line;
-  leg.distal_end = knee + quantile(reach, 0.995) * shank_line.direction;
-  leg.upper.point = hip;
-  leg.upper.direction = (knee - hip).normalized();
-}
-
 // Radius of a cross-section polygon in the direction of a point (its sector's vertex).
 double polygonRadius(const CrossSection& section, double phi, int sectors) {
   if (section.polygon.empty()) return 0;
@@ -605,10 +549,7 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
       limbs[limb] = fitLimb(
           without_foot, limb_points[limb], kKneeFraction, options.leg_split_window,
           [&](const Line&) { return hip_of_side[side]; }, true);
-      if (limbs[limb].valid && options.bent_knee.enabled) {
-        placeBentKneeAndSole(limbs[limb], limb_points[limb], hip_of_side[side], stature,
-                             options.bent_knee);
-      } else if (limbs[limb].valid) {
+      if (limbs[limb].valid) {
         // The sole: as far along the shank line as the leg's points (the foot included) reach.
         std::vector<double> reach;
         for (const auto& p : limb_points[limb])

@@ -1,6 +1,7 @@
 // Gait reconstruction (thesis 5.6, eqs 5.11-5.13) and symmetric poses (5.8.3).
 #include <body_gait_model/gait_cycle.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -115,12 +116,16 @@ GaitCycle reconstructGaitCycle(const RepresentativePoses& poses) {
   // Stride = two steps: at s1 the right foot leads, at s3 the left.
   const double right_step = stepLength(poses[0], "right", "left", front);
   const double left_step = stepLength(poses[2], "left", "right", front);
-  cycle.stride_length = right_step + left_step;
-  if (!(cycle.stride_length > 0))
+  if (!(right_step > 0) && !(left_step > 0))
     throw std::invalid_argument(
         "gait cycle: the soles give no forward stride (s1 right step " +
         std::to_string(right_step) + " m, s3 left step " + std::to_string(left_step) +
         " m); s1 must lead with the right foot and s3 with the left (thesis 5.3), facing front");
+  // One step backwards is one misfitted foot (e.g. a real trailing leg bent beyond the model's
+  // range), not a walk in the wrong order: the other step stands in for it. The stride only sets
+  // the walked v (eq 5.11); the poses' angles and lengths are kept as fitted.
+  cycle.stride_length = right_step > 0 && left_step > 0 ? right_step + left_step
+                                                        : 2 * std::max(right_step, left_step);
   // 5.8.2: speed = stride / number of poses; one cycle of 20 frames walks one stride.
   cycle.velocity = cycle.stride_length / kGaitCycleFrames * front;
 

@@ -146,6 +146,14 @@ TEST(GaitCycle, BadPosesAreRefusedWithTheReason) {
     EXPECT_NE(std::string(error.what()).find("s1 must lead with the right foot"), std::string::npos)
         << error.what();
   }
+  // One misfitted step backwards (a left-leading pose where s1 should be, s3 right): the other
+  // step, s3's, stands in for it.
+  RepresentativePoses one_back = walk(0.0);
+  one_back[0] = one_back[2];
+  const double left_step =
+      -handStep(one_back[2], {-18 * kDegree, 14 * kDegree, 24 * kDegree, 6 * kDegree});
+  ASSERT_GT(left_step, 0.2);
+  EXPECT_NEAR(reconstructGaitCycle(one_back).stride_length, 2 * left_step, 1e-3);
   RepresentativePoses opposite = walk(0.0);
   opposite[2].p[4] = opposite[3].p[4] = kPi;  // two fits face the other way: no mean heading
   EXPECT_THROW(reconstructGaitCycle(opposite), std::invalid_argument);

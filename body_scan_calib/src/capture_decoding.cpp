@@ -82,7 +82,10 @@ body_scan_driver::StripeImage decodePatternFrames(const std::vector<cv::Mat>& fr
                                                   const RobustDecoding& robust) {
   body_scan_driver::StripeImage stripes;
   body_scan_driver::DecoderParams params;
-  if (robust.enabled) params.min_contrast = robust.min_contrast;
+  if (robust.enabled) {
+    params.min_contrast = robust.min_contrast;
+    params.edge_contrast_ratio = robust.edge_contrast_ratio;
+  }
   body_scan_driver::StripeDecoder(layout, params).decode(frames, stripes);
   if (!robust.enabled) return stripes;
   rejectInconsistentCodes(stripes, robust);

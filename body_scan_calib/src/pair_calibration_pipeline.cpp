@@ -139,7 +139,8 @@ PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& po
   for (size_t pose = 0; pose < pose_frames.size(); ++pose) {
     const body_scan_driver::StripeImage stripes = decodePatternFrames(
         pose_frames[pose],
-        pose < pose_cross_frames.size() ? pose_cross_frames[pose] : std::vector<cv::Mat>(), layout);
+        pose < pose_cross_frames.size() ? pose_cross_frames[pose] : std::vector<cv::Mat>(), layout,
+        options.decoding);
     observations.push_back(
         {outcome.camera.board_to_camera[pose], stripes.coordinate.clone(),
          boardRegion(outcome.camera.camera, outcome.camera.board_to_camera[pose], options.board)});

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -280,6 +281,16 @@ PairValidation validateLeaveOnePoseOut(const PairViews& views,
     const PinholePeer peer =
         calibratePeer(outcome.camera.corners, train_columns, train_rows, options.board, camera_size,
                       cv::Size(projector_columns, projector_rows));
+    {
+      char line[256];
+      std::snprintf(line, sizeof(line),
+                    "  peer: projector fx %.1f fy %.1f cx %.1f cy %.1f, baseline (%.1f, %.1f, %.1f) mm",
+                    peer.projector_matrix.at<double>(0, 0), peer.projector_matrix.at<double>(1, 1),
+                    peer.projector_matrix.at<double>(0, 2), peer.projector_matrix.at<double>(1, 2),
+                    1e3 * peer.translation.at<double>(0), 1e3 * peer.translation.at<double>(1),
+                    1e3 * peer.translation.at<double>(2));
+      report(line);
+    }
     // The board plane from the peer's own camera (PnP), as for ours.
     std::vector<cv::Point3f> object;
     std::vector<cv::Point2f> image;

@@ -8,6 +8,8 @@
 #include <body_scan_driver/sim/triangle_mesh.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <set>
 
@@ -50,6 +52,33 @@ TEST(MeshHumanModel, RejectsSlidersOutsideTheKit) {
   MeshPersonSpec giant;
   giant.stature = 2.5;
   EXPECT_THROW(personMacros(model(), giant), std::invalid_argument);
+}
+
+// Bad files: a truncated kit and a retarget map without a segment are errors naming the file.
+TEST(MeshHumanModel, BadFilesAreErrorsNamingTheFile) {
+  const std::string kit = meshHumanFiles().model;
+  const std::string cut = ::testing::TempDir() + "mesh_human_cut.bin";
+  {
+    std::ifstream in(kit, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  try {
+    MeshHumanModel::load(cut);
+    ADD_FAILURE() << "a truncated kit loaded";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(cut), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+  }
+  const std::string map = ::testing::TempDir() + "mesh_retarget_no_neck.yaml";
+  std::ofstream(map) << "segments: {pelvis: [root]}\njoints: {}\n";
+  try {
+    loadMeshRetargetMap(map);
+    ADD_FAILURE() << "a map without segments loaded";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(map), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("torso"), std::string::npos) << e.what();
+  }
 }
 
 // The default person: a 1.75 m man of BMI 23 (70.4 kg): stature on spec, volume 70 L, the

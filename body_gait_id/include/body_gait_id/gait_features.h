@@ -17,8 +17,21 @@ namespace body_gait_id {
 
 enum class View { k3D, kFrontal, kSide };  // 5.8.4: orthographic virtual views
 // 5.7: phi = [q'] or [q', r']; beyond the thesis, [q', r', b'] with the body-shape measures b
-// (bodyShapeFeatures), 3D only.
-enum class FeatureSet { kDynamic, kDynamicStatic, kDynamicStaticShape };
+// (bodyShapeFeatures), 3D only. The other subsets (static r alone, shape alone, ...) show how
+// much of an identification is gait and how much body size (evaluate_gait_id's decomposition
+// rows). Blocks always in the order q, r, b.
+enum class FeatureSet {
+  kDynamic,
+  kDynamicStatic,
+  kDynamicStaticShape,
+  kStatic,
+  kShape,
+  kStaticShape,
+  kDynamicShape
+};
+bool hasDynamic(FeatureSet set);
+bool hasStatic(FeatureSet set);
+bool hasShape(FeatureSet set);
 
 // q (22-D) / r (12-D) in 3D; 11 + 12 in a 2D view. shape: bodyShapeFeatures in 3D, empty in the
 // 2D views (a silhouette does not give girths).

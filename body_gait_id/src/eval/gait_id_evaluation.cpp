@@ -398,6 +398,16 @@ ProbeSet identifyProbes(const FittedWalks& walks, const FeatureRow& row,
   return result;
 }
 
+std::vector<FeatureRow> decompositionRows() {
+  return {{"3D dynamic (joint angles)", View::k3D, FeatureSet::kDynamic, std::nullopt},
+          {"3D static (segment lengths)", View::k3D, FeatureSet::kStatic, std::nullopt},
+          {"3D shape (radii, widths, height)", View::k3D, FeatureSet::kShape, std::nullopt},
+          {"3D static+shape (body size)", View::k3D, FeatureSet::kStaticShape, std::nullopt},
+          {"3D dynamic+static", View::k3D, FeatureSet::kDynamicStatic, std::nullopt},
+          {"3D dynamic+shape", View::k3D, FeatureSet::kDynamicShape, std::nullopt},
+          {"3D dynamic+static+shape", View::k3D, FeatureSet::kDynamicStaticShape, std::nullopt}};
+}
+
 FeatureRow shapeRow() {
   return {"3D dynamic+static+shape", View::k3D, FeatureSet::kDynamicStaticShape, std::nullopt};
 }
@@ -446,6 +456,10 @@ std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
       const ProbeSet open =
           identifyProbes(walks, row, gallery_trials, probe_trial, people / 2, probes, transform);
       metrics.open_set = decided(open).open_set;
+      MetricsOptions strict;
+      strict.target_fnir = 0.01;
+      metrics.open_set_strict =
+          evaluateRecognition(per_walk ? perWalkProbes(open.probes) : open.probes, strict).open_set;
     }
     results.push_back(
         {row.name + suffix, metrics, std::nullopt, droppedNote(closed.dropped_people)});

@@ -65,9 +65,11 @@ void emitMetrics(YAML::Emitter& out, const NamedMetrics& named) {
         << YAML::EndSeq;
   }
   out << YAML::EndSeq << YAML::EndMap;
-  if (m.open_set) {
-    const OpenSetResult& o = *m.open_set;
-    out << YAML::Key << "open_set" << YAML::Value << YAML::BeginMap;
+  for (const auto& [key, open_set] :
+       {std::pair{"open_set", &m.open_set}, std::pair{"open_set_strict", &m.open_set_strict}}) {
+    if (!*open_set) continue;
+    const OpenSetResult& o = **open_set;
+    out << YAML::Key << key << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "target_fnir" << YAML::Value << o.target_fnir;
     out << YAML::Key << "target_reached" << YAML::Value << o.target_reached;
     out << YAML::Key << "threshold" << YAML::Value << o.threshold;

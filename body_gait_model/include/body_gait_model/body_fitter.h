@@ -36,15 +36,6 @@ struct FitQualityOptions {
   int max_points = 100000;
 };
 
-// Knees on bent legs (placeBentKneeAndSole in body_fitter.cpp): where the thigh's and shank's
-// lines meet when they bend by more than clear_deg, the proportion below straight_deg, blended
-// in between; soles from the points within the shank's radius + sole_margin of its line.
-struct BentKneeOptions {
-  bool enabled = false;
-  double straight_deg = 15, clear_deg = 25;
-  double sole_margin = 0.03;  // m
-};
-
 struct FitOptions {
   BodyAxesOptions axes;
   TorsoOptions torso;
@@ -60,7 +51,6 @@ struct FitOptions {
   // Elbow and knee are searched within +- this fraction of the proximal-joint-to-tip length
   // around the standard proportion (Drillis & Contini).
   double arm_split_window = 0.12, leg_split_window = 0.12;
-  BentKneeOptions bent_knee;
   double limb_track_radius = 0.06;  // m: an arm's next slice lies within this of its centre
   // Hip joint centres above the lowest point, * body height (Drillis & Contini: 0.53). They lie
   // inside the pelvis, so the surface alone does not show them; the thigh line gives x and z.

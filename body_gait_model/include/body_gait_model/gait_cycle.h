@@ -50,7 +50,8 @@ struct GaitCycle {
 // translation is the interpolated translation of its neighbours (sway and bob of the fits) plus
 // (f - 1) v (eq 5.11), so frames 1, 6, 11, 16 equal s1..s4 in q and p's angles, and in p's
 // translation up to the walked (f - 1) v.
-// Throws std::invalid_argument if the legs give no forward stride (e.g. a backwards fit).
+// Throws std::invalid_argument if neither step goes forward (s1 and s3 swapped, or facing
+// back); when only one does (one misfitted foot), the stride is twice that step.
 GaitCycle reconstructGaitCycle(const RepresentativePoses& poses);
 
 }  // namespace body_gait_model

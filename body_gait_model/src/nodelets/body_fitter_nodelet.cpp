@@ -7,7 +7,8 @@
 // Walk sessions: a cloud's scan id, walk id and pose index are in its ScanReport
 // (/body_scan/scan_report, same header stamp). While a report publisher is connected, a cloud
 // waits up to ~report_wait for its report. A single scan is fitted at once; a walk's 4 clouds
-// are collected and fitted together (fitWalk), then its 4 models and its gait cycle
+// are collected and fitted together (fitWalk: one body for the walk), then its 4 models and its
+// gait cycle
 // (/body_gait/gait_sequence, eqs 5.11-5.13) are published.
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/fit_options_file.h>
@@ -18,6 +19,7 @@
 #include <body_gait_model/walk_collector.h>
 #include <body_scan_msgs/GaitSequence.h>
 #include <body_scan_msgs/ScanReport.h>
+#include <malloc.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -50,11 +52,16 @@ TimedFit fitScan(const Cloud& cloud, const FitOptions& options) {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
 }
 
-// The fits of a walk's 4 clouds (poses s1..s4). For now each cloud is fitted on its own with the
-// single-scan fit; a walk-level fit (the 4 clouds fitted together) replaces this one function.
-std::vector<TimedFit> fitWalk(const std::vector<Cloud>& clouds, const FitOptions& options) {
+// The fits of a walk's 4 clouds (poses s1..s4), fitted together (the walk-level fit: one body
+// for the walk, body_fitter.h); each scan is charged an equal share of the time.
+std::vector<TimedFit> fitWalkScans(const std::vector<Cloud>& clouds, const FitOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  WalkFit walk = fitWalk(clouds, options);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
+      static_cast<double>(clouds.size());
   std::vector<TimedFit> fits;
-  for (const Cloud& cloud : clouds) fits.push_back(fitScan(cloud, options));
+  for (BodyFit& scan : walk.scans) fits.push_back({std::move(scan), seconds});
   return fits;
 }
 
@@ -194,7 +201,7 @@ class BodyFitterNodelet : public nodelet::Nodelet {
       }
       const std::vector<TimedFit> fits = msgs.size() == 1
                                              ? std::vector<TimedFit>{fitScan(clouds[0], options_)}
-                                             : fitWalk(clouds, options_);
+                                             : fitWalkScans(clouds, options_);
       for (std::size_t i = 0; i < fits.size(); ++i) publish(fits[i], *msgs[i], ids[i], clouds[i]);
       if (fits.size() == static_cast<std::size_t>(kWalkPoses))
         publishCycle(fits, *msgs.back(), ids[0]);
@@ -206,6 +213,9 @@ class BodyFitterNodelet : public nodelet::Nodelet {
       NODELET_ERROR_THROTTLE(5.0, "%s not fitted: unknown error",
                              ids[0].walk_id ? "walk" : "cloud");
     }
+    // A fit's temporaries (tens of MB), once freed, stay with glibc's per-thread arenas (soak:
+    // RSS +28 % over 300 scans with 2.5 MB in use); hand them back to the system.
+    malloc_trim(0);
   }
 
   void publish(const TimedFit& timed, const sensor_msgs::PointCloud2& msg, const ScanIds& ids,

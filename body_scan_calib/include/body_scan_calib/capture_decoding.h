@@ -22,6 +22,9 @@ struct RobustDecoding {
   bool enabled = false;
   // lit - dark below this (grey levels) is shadow; the inverse frames decide every bit above it.
   int min_contrast = 3;
+  // The driver decoder's silhouette filter (DecoderParams::edge_contrast_ratio): a dark square's
+  // pixel beside a white one has a small fraction of its neighbour's contrast and is still board.
+  double edge_contrast_ratio = 0.4;
   // A pixel's stripe coordinate may differ from the median of its 5x5 neighbourhood by at most
   // this many stripes (a linear ramp has its centre at the median).
   double max_neighbour_deviation = 1.0;
@@ -29,7 +32,7 @@ struct RobustDecoding {
   int min_neighbours = 12;
   // The coordinate is replaced by the median over this many pixels either side along the
   // stripe (where it barely changes): single-pixel code errors and noise average out. 0: off.
-  int along_stripe_radius = 3;
+  int along_stripe_radius = 8;
 };
 
 // Decodes a pattern set (PatternLayout order, inverse frames); cross_frames (the projector's

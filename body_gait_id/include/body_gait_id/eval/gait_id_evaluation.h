@@ -80,6 +80,10 @@ struct FeatureRow {
 std::vector<FeatureRow> thesisRows();  // 3D, frontal, side x dynamic, dynamic+static
 // Beyond the thesis: 3D dynamic + static + body shape (bodyShapeFeatures).
 FeatureRow shapeRow();
+// How much is gait and how much body size: 3D dynamic only (joint angles), static only (segment
+// lengths), shape only (radii, half widths, height), static + shape (body size without gait),
+// and the combinations with the dynamic feature.
+std::vector<FeatureRow> decompositionRows();
 
 // Optional learned projection of the normalized features (the thesis's future work), fitted on
 // the gallery: PCA keeps `components` (0: half the dimension), LDA subjects - 1 (capped at the

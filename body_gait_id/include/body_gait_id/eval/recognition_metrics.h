@@ -69,6 +69,8 @@ struct RecognitionMetrics {
   double equal_error_rate = 0;  // (FAR + FRR) / 2 at the ROC point where they are closest
   double eer_threshold = 0;
   std::optional<OpenSetResult> open_set;  // when there are enrolled and non-enrolled probes
+  // The same at a stricter operating point (FNIR 1 %), where a protocol computes it.
+  std::optional<OpenSetResult> open_set_strict;
 };
 
 struct MetricsOptions {
