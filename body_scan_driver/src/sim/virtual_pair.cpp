@@ -97,6 +97,7 @@ std::vector<uint32_t> framesLighting(const PatternLayout& layout) {
 // narrow. The stripes and their overlaps are found once per pixel, then summed per frame.
 class PixelCoverage {
  public:
+  static constexpr int kMaxStripes = static_cast<int>(kMaxFootprint) + 2;
   PixelCoverage(float stripe, float width, const std::vector<uint32_t>& lit_frames)
       : width_(width) {
     const int stripes = static_cast<int>(lit_frames.size());
@@ -114,16 +115,22 @@ class PixelCoverage {
         overlaps_[count_++] = std::min(hi, k + 1.f) - std::max(lo, static_cast<float>(k));
       }
   }
-  float operator()(int frame) const {
-    if (narrow_) return static_cast<float>((masks_[0] >> frame) & 1);
+  // Frames that light the same of the pixel's stripes have the same coverage: bit i of a
+  // frame's pattern says whether it lights the pixel's i-th stripe.
+  int stripeCount() const { return count_; }
+  unsigned pattern(int frame) const {
+    unsigned bits = 0;
+    for (int i = 0; i < count_; ++i) bits |= ((masks_[i] >> frame) & 1u) << i;
+    return bits;
+  }
+  float ofPattern(unsigned bits) const {
+    if (narrow_) return static_cast<float>(bits & 1);
     float coverage = 0;
-    for (int i = 0; i < count_; ++i)
-      if ((masks_[i] >> frame) & 1) coverage += overlaps_[i];
+    for (int i = 0; i < count_; ++i) coverage += ((bits >> i) & 1) ? overlaps_[i] : 0.f;
     return count_ == 0 ? coverage : coverage / width_;
   }
 
  private:
-  static constexpr int kMaxStripes = static_cast<int>(kMaxFootprint) + 2;
   float width_;
   bool narrow_ = false;
   int count_ = 0;
@@ -238,10 +245,11 @@ VirtualPair::VirtualPair(VirtualPairConfig config, std::shared_ptr<const Scene> 
   tan_fan_half_angle_ = std::tan(projector.fan_half_angle);
   for (int k = 0; k <= stripes * kSweepSamplesPerStripe; ++k) {
     const double fraction = k * sweep_step_ / stripes;
-    sweep_.push_back(projector.planeAtAngle(
+    const SweptLaserProjector::Plane plane = projector.planeAtAngle(
         projector.first_mirror_angle +
             fraction * (projector.last_mirror_angle - projector.first_mirror_angle),
-        mirror_frame_));
+        mirror_frame_);
+    sweep_.push_back({plane.normal, plane.offset});
   }
   if (!with_camera) return;
   std::mt19937 generator(config_.sensor.seed);
@@ -408,6 +416,7 @@ void VirtualPair::shadeFrames(const std::vector<uint32_t>& lit_frames,
   const int cols = images[0].cols, frames = static_cast<int>(images.size());
   const int stripes = static_cast<int>(lit_frames.size());
   std::vector<float*> out(frames);
+  float levels[1 << PixelCoverage::kMaxStripes];
   for (int v = row_begin; v < row_end; ++v) {
     for (int f = 0; f < frames; ++f) out[f] = images[f].ptr<float>(v);
     const ForeignLight* light = foreign.empty() ? nullptr : foreign[v].data();
@@ -416,8 +425,11 @@ void VirtualPair::shadeFrames(const std::vector<uint32_t>& lit_frames,
       const size_t index = static_cast<size_t>(v) * cols + u;
       const SurfaceSample& sample = samples[index];
       const PixelCoverage coverage(sample.stripe, footprint[index], lit_frames);
-      for (int f = 0; f < frames; ++f)
-        out[f][u] = sample.ambient_level + sample.projector_level * coverage(f);
+      // Each distinct grey level once (a pixel spans at most a few stripes), then per frame.
+      const unsigned patterns = 1u << coverage.stripeCount();
+      for (unsigned bits = 0; bits < patterns; ++bits)
+        levels[bits] = sample.ambient_level + sample.projector_level * coverage.ofPattern(bits);
+      for (int f = 0; f < frames; ++f) out[f][u] = levels[coverage.pattern(f)];
       // Other pairs' stripes, point-sampled (they only need to corrupt, not to decode).
       for (; light != lights_end && light->u == u; ++light) {
         const uint32_t lit =

@@ -145,9 +145,13 @@ class VirtualPair {
   VirtualPairConfig config_;
   std::shared_ptr<const Scene> scene_;
   PatternLayout layout_;
-  std::vector<Eigen::Vector3f> camera_rays_;       // unit rays per pixel (camera frame)
-  std::vector<SweptLaserProjector::Plane> sweep_;  // planes at fine steps of the coordinate
-  double sweep_step_;                              // stripe coordinate between sweep_ entries
+  std::vector<Eigen::Vector3f> camera_rays_;  // unit rays per pixel (camera frame)
+  struct SweepPlane {  // normal . x + offset = 0 (only what the search needs: compact)
+    Eigen::Vector3d normal;
+    double offset;
+  };
+  std::vector<SweepPlane> sweep_;  // planes at fine steps of the coordinate
+  double sweep_step_;              // stripe coordinate between sweep_ entries
   SweptLaserProjector::MirrorFrame mirror_frame_;
   double tan_fan_half_angle_;
   std::vector<float> noise_;  // unit Gaussian samples
