@@ -189,7 +189,8 @@ fuzz:
 	  name=$$(basename $$exe); name=$${name#fuzz_}; pkg=$$(basename $$(dirname $$exe)); \
 	  out=$(BUILD_DIR)/fuzz/$$name; mkdir -p $$out/corpus; \
 	  cp -n $$pkg/fuzz/corpus/$$name/* $$out/corpus/ 2>/dev/null || true; \
-	  (cd $$out && env $(SAN_ENV) ASAN_OPTIONS=detect_leaks=0:verify_asan_link_order=0 \
+	  (cd $$out && env LD_PRELOAD=$(ASAN_RT) UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	    ASAN_OPTIONS=detect_leaks=0:verify_asan_link_order=0:alloc_dealloc_mismatch=0 \
 	    $$exe -max_total_time=$(FUZZ_SECONDS) -max_len=$(FUZZ_MAX_LEN) -rss_limit_mb=2048 \
 	    -timeout=20 -print_final_stats=1 corpus >$$out/log.txt 2>&1) || status=1; \
 	  runs=$$(sed -n 's/^stat::number_of_executed_units: *//p' $$out/log.txt); \
