@@ -198,7 +198,8 @@ fuzz:
 	  name=$$(basename $$exe); name=$${name#fuzz_}; pkg=$$(basename $$(dirname $$exe)); \
 	  out=$(BUILD_DIR)/fuzz/$$name; mkdir -p $$out/corpus; \
 	  cp -n $$pkg/fuzz/corpus/$$name/* $$out/corpus/ 2>/dev/null || true; \
-	  (cd $$out && env $(SAN_ENV) ASAN_OPTIONS=detect_leaks=0:verify_asan_link_order=0 \
+	  (cd $$out && env LD_PRELOAD=$(ASAN_RT) UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	    ASAN_OPTIONS=detect_leaks=0:verify_asan_link_order=0:alloc_dealloc_mismatch=0 \
 	    $$exe -max_total_time=$(FUZZ_SECONDS) -max_len=$(FUZZ_MAX_LEN) -rss_limit_mb=2048 \
 	    -timeout=20 -print_final_stats=1 corpus >$$out/log.txt 2>&1) || status=1; \
 	  runs=$$(sed -n 's/^stat::number_of_executed_units: *//p' $$out/log.txt); \
@@ -207,17 +208,41 @@ fuzz:
 	done; exit $$status
 
 # sanitize: the whole suite's tests under ASan + UBSan (a rostest's nodes too), then TSan.
+# SAN_TESTS="test_a test_b ..." builds those targets and runs its test_* gtests, and the rostests
+# of SAN_ROSTESTS="pkg/name.test ..." (their test_<name> and nodes must be in SAN_TESTS):
+# a full sanitizer build takes long on 2 cores. A report aborts its process (the test fails);
+# reports: build/sanitize/reports/.
+SAN_TESTS ?=
+SAN_ROSTESTS ?=
 sanitize:
 	$(call install_missing,$(SANITIZER_PACKAGES))
-	$(call san_build,all tests,$(SAN_DIR),$(SAN_FLAGS),-DBODY_SCAN_FUZZ=ON)
+	$(call san_build,$(if $(SAN_TESTS),$(SAN_TESTS),all tests),$(SAN_DIR),$(SAN_FLAGS),-DBODY_SCAN_FUZZ=ON)
 	@rm -rf $(SAN_DIR)/test_results $(SAN_DIR)/reports; mkdir -p $(SAN_DIR)/reports
 	@port=$$($(PY) -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'); \
 	export ROS_MASTER_URI=http://localhost:$$port; \
 	export ROS_HOME=$(SAN_DIR)/ros_home ROS_LOG_DIR=$(SAN_DIR)/ros_home/log; \
 	mkdir -p "$$ROS_LOG_DIR"; \
-	env $(SAN_ENV) $(MAKE) -C $(SAN_DIR) run_tests || true; \
-	$(PY) scripts/test_summary.py $(SAN_DIR)/test_results --write $(SAN_DIR)/test_summary.txt; \
-	reports=$$(ls $(SAN_DIR)/reports | wc -l); echo "== ASan/UBSan reports: $$reports (build/sanitize/reports)"
+	if [ -z "$(SAN_TESTS)" ]; then \
+	  env $(SAN_ENV) $(MAKE) -C $(SAN_DIR) run_tests || true; \
+	  $(PY) scripts/test_summary.py $(SAN_DIR)/test_results --write $(SAN_DIR)/test_summary.txt; \
+	else \
+	  source $(SAN_DIR)/devel/setup.bash; passed=0; failed=0; \
+	  for t in $(SAN_TESTS); do \
+	    exe=$$(find $(SAN_DIR)/devel/lib -name $$t -type f | head -1); \
+	    case " $(SAN_ROSTESTS) " in *"/$${t#test_}.test "*) continue;; esac; \
+	    case $$t in test_*) [ -n "$$exe" ] || continue;; *) continue;; esac; \
+	    if env $(SAN_ENV) $$exe >$(SAN_DIR)/reports/$$t.out 2>&1; then passed=$$((passed+1)); \
+	      echo "asan $$t: $$(grep -o '[0-9]* tests\? from .* ran' $(SAN_DIR)/reports/$$t.out | tail -1) ok"; \
+	    else failed=$$((failed+1)); echo "asan $$t: FAILED (build/sanitize/reports/$$t.out)"; fi; \
+	  done; \
+	  for r in $(SAN_ROSTESTS); do \
+	    if env $(SAN_ENV) rostest --text $${r%%/*} $${r#*/} >$(SAN_DIR)/reports/$$(basename $$r).out 2>&1; \
+	    then passed=$$((passed+1)); echo "asan rostest $$r: ok"; \
+	    else failed=$$((failed+1)); echo "asan rostest $$r: FAILED"; fi; \
+	  done; echo "== $$passed passed, $$failed failed"; \
+	fi; \
+	reports=$$(ls $(SAN_DIR)/reports | grep -c -E '^(asan|ubsan)' || true); \
+	echo "== ASan/UBSan reports: $$reports (build/sanitize/reports)"
 	@$(MAKE) tsan
 
 # tsan: the multi-threaded parts' tests (merge, the coordinator, the hardware state machine,

@@ -102,13 +102,45 @@ YAML::Node flow(const Vector& values) {
   return node;
 }
 
+// The YAML documents of a file. Not YAML::LoadAllFromFile: on some malformed text (e.g.
+// "   , 0]") yaml-cpp 0.7's LoadAll returns empty documents forever without consuming input.
+// The documents are split at their "---" / "..." marker lines (as rostopic echo writes them)
+// and each is loaded alone. Throws YAML::BadFile or YAML::Exception.
+std::vector<YAML::Node> loadDocuments(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw YAML::BadFile(path);
+  std::vector<YAML::Node> documents;
+  std::string document, line;
+  bool any = false;  // text other than markers, blank lines and comments since the last marker
+  auto flush = [&] {
+    if (any) documents.push_back(YAML::Load(document));
+    document.clear();
+    any = false;
+  };
+  while (std::getline(in, line)) {
+    const bool start = line.rfind("---", 0) == 0 && (line.size() == 3 || line[3] == ' ');
+    const bool end = line == "...";
+    if (start || end) {
+      flush();
+      if (start) document = line.substr(3) + "\n";  // "--- {a: 1}": content after the marker
+      any = document.find_first_not_of(" \t\n") != std::string::npos;
+      continue;
+    }
+    document += line + "\n";
+    const size_t first = line.find_first_not_of(" \t");
+    any = any || (first != std::string::npos && line[first] != '#');
+  }
+  flush();
+  return documents;
+}
+
 // The models of a file, each labelled pose_prefix + its 1-based number. An empty `poses:` list
 // gives none (the callers say what they needed).
 std::vector<BodyModel> readModels(const std::string& path, const std::string& pose_prefix) {
   const std::string file = "body models file '" + path + "'";
   std::vector<YAML::Node> documents;
   try {
-    documents = YAML::LoadAllFromFile(path);
+    documents = loadDocuments(path);
   } catch (const YAML::BadFile&) {
     throw std::runtime_error(file +
                              " cannot be read: check the path (a YAML file with 'poses:', "

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -74,6 +75,20 @@ inline std::string inputFile(const char* target, const uint8_t* data, size_t siz
 
 // A libFuzzer executable is one fuzz source compiled with BODY_SCAN_FUZZ_NAME="<target>".
 #ifdef BODY_SCAN_FUZZ_NAME
+// roscpp sizes an array from its 32-bit length prefix before reading it (up to 4 G elements
+// from a few bytes), and ASan's operator new aborts where glibc's throws bad_alloc. So that
+// finds are ours, not that, new throws bad_alloc above 256 MB (fuzz runs set ASan's
+// alloc_dealloc_mismatch=0: these blocks come from malloc).
+void* operator new(size_t size) {
+  void* block = size <= (size_t{256} << 20) ? std::malloc(size ? size : 1) : nullptr;
+  if (!block) throw std::bad_alloc();
+  return block;
+}
+void* operator new[](size_t size) { return operator new(size); }
+void operator delete(void* block) noexcept { std::free(block); }
+void operator delete[](void* block) noexcept { std::free(block); }
+void operator delete(void* block, size_t) noexcept { std::free(block); }
+void operator delete[](void* block, size_t) noexcept { std::free(block); }
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const ::body_scan_driver::fuzz::Entry entry =
       ::body_scan_driver::fuzz::registeredTargets().at(BODY_SCAN_FUZZ_NAME);

@@ -101,6 +101,8 @@ class FakeCamera : public StreamingCamera {
   bool fail_start = false;
   bool streaming = false;
   UvcSettings settings;
+  // Expires when the device destroys (closes) this camera: a test holds a weak_ptr to it.
+  std::shared_ptr<int> lifetime = std::make_shared<int>(0);
 
  private:
   std::shared_ptr<FakeScreen> screen_;
