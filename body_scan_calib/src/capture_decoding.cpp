@@ -1,4 +1,5 @@
 #include <body_scan_calib/capture_decoding.h>
+#include <body_scan_calib/projector_calibration.h>
 #include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/triangulation.h>
 
@@ -42,23 +43,9 @@ size_t rejectInconsistentCodes(body_scan_driver::StripeImage& stripes,
   return rejected;
 }
 
-// Whether the coordinate changes more along image rows (down a column) than along columns.
-bool changesAlongRows(const cv::Mat1f& coordinate) {
-  double along_rows = 0, along_columns = 0;
-  for (int v = 0; v + 1 < coordinate.rows; v += 2)
-    for (int u = 0; u + 1 < coordinate.cols; u += 2) {
-      const float c = coordinate(v, u), below = coordinate(v + 1, u), right = coordinate(v, u + 1);
-      if (std::isfinite(c) && std::isfinite(below) && std::abs(below - c) < 2)
-        along_rows += std::abs(below - c);
-      if (std::isfinite(c) && std::isfinite(right) && std::abs(right - c) < 2)
-        along_columns += std::abs(right - c);
-    }
-  return along_rows >= along_columns;
-}
-
 void smoothAlongStripes(body_scan_driver::StripeImage& stripes, int radius) {
   if (radius <= 0) return;
-  const bool along_rows = changesAlongRows(stripes.coordinate);
+  const bool along_rows = stripesChangeAlongRows(stripes.coordinate, 2);
   const cv::Mat1f source = stripes.coordinate.clone();
   std::vector<float> window;
   for (int v = 0; v < source.rows; ++v)

@@ -13,21 +13,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Mean absolute coordinate change along rows vs along columns: the stripes change along the
-// axis with the larger one (rows for the pole's vertical baseline).
-bool stripesChangeAlongRows(const cv::Mat1f& coordinate) {
-  double along_rows = 0, along_columns = 0;
-  for (int v = 0; v + 1 < coordinate.rows; v += 4)
-    for (int u = 0; u + 1 < coordinate.cols; u += 4) {
-      const float c = coordinate(v, u), below = coordinate(v + 1, u), right = coordinate(v, u + 1);
-      if (std::isfinite(c) && std::isfinite(below) && std::abs(below - c) < 2)
-        along_rows += std::abs(below - c);
-      if (std::isfinite(c) && std::isfinite(right) && std::abs(right - c) < 2)
-        along_columns += std::abs(right - c);
-    }
-  return along_rows >= along_columns;
-}
-
 // Uniform cubic B-spline: the 4 basis weights at local parameter t in [0, 1) of a segment.
 std::array<double, 4> cubicBasis(double t) {
   const double u = 1 - t;
@@ -146,6 +131,19 @@ class SmoothStripePlanes {
 };
 
 }  // namespace
+
+bool stripesChangeAlongRows(const cv::Mat1f& coordinate, int sample_step) {
+  double along_rows = 0, along_columns = 0;
+  for (int v = 0; v + 1 < coordinate.rows; v += sample_step)
+    for (int u = 0; u + 1 < coordinate.cols; u += sample_step) {
+      const float c = coordinate(v, u), below = coordinate(v + 1, u), right = coordinate(v, u + 1);
+      if (std::isfinite(c) && std::isfinite(below) && std::abs(below - c) < 2)
+        along_rows += std::abs(below - c);
+      if (std::isfinite(c) && std::isfinite(right) && std::abs(right - c) < 2)
+        along_columns += std::abs(right - c);
+    }
+  return along_rows >= along_columns;
+}
 
 std::vector<StripeCentreSample> extractStripeCentres(const cv::Mat1f& coordinate, int stripe_count,
                                                      const cv::Mat1b& region) {

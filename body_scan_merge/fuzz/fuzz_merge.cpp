@@ -6,6 +6,7 @@
 #include <body_scan_driver/sim/rig.h>  // simulated_scan.h uses sim::Rig
 #include <body_scan_merge/cloud_merge.h>
 #include <body_scan_merge/ply_writer.h>
+#include <body_scan_merge/ros/cloud_view_msg.h>
 #include <body_scan_merge/simulated_scan.h>
 
 #include <cstdlib>
@@ -17,13 +18,7 @@ BODY_SCAN_FUZZ_TARGET(pair_cloud) {
   body_scan_msgs::PairCloud part;
   if (!fuzz::deserialize(data, size, part) || body_scan_driver::checkPairCloud(part)) return 0;
   const sensor_msgs::PointCloud2& cloud = part.cloud;
-  CloudView view;  // as the Merge nodelet reads a checked cloud
-  view.points = reinterpret_cast<const float*>(cloud.data.data());
-  view.count = static_cast<size_t>(cloud.width) * cloud.height;
-  view.stride = cloud.point_step / 4;
-  view.rgb_offset = -1;
-  for (const auto& field : cloud.fields)
-    if (field.name == "rgb") view.rgb_offset = static_cast<int>(field.offset / 4);
+  const CloudView view = cloudView(cloud);  // as the Merge nodelet reads a checked cloud
   const MergedCloud merged = mergeClouds({view}, MergeOptions());
   if (merged.valid_per_part.size() != 1 || merged.valid_per_part[0] > view.count) std::abort();
   return 0;

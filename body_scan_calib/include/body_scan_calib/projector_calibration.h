@@ -106,4 +106,9 @@ ProjectorCalibrationResult calibrateStripePlanes(
 // component, as the simulator's factory planes), so that neighbouring planes interpolate.
 Eigen::Vector4d orientPlane(const Eigen::Vector4d& plane);
 
+// Whether a decoded stripe coordinate changes more down the image (along rows) than across it:
+// mean absolute change between neighbours (steps under 2 stripes), sampled every sample_step
+// pixels. Rows for the pole's vertical baseline.
+bool stripesChangeAlongRows(const cv::Mat1f& coordinate, int sample_step = 4);
+
 }  // namespace body_scan_calib

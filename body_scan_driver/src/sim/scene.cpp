@@ -200,18 +200,26 @@ void Scene::addJoints(const std::vector<SkeletonJoint>& joints) {
   skeleton_.insert(skeleton_.end(), joints.begin(), joints.end());
 }
 
+namespace {
+
+// Cull by the bounding sphere: true when the ray's line misses it or it lies outside
+// [t_min, t_max] (surfaces without a finite bound are never culled).
+bool missesBoundingSphere(const Surface& surface, const Ray& ray, double t_min, double t_max) {
+  const double radius = surface.boundingRadius();
+  if (!std::isfinite(radius)) return false;
+  const Eigen::Vector3d to_center = surface.boundingCenter() - ray.origin;
+  const double along = to_center.dot(ray.direction);
+  if (along + radius < t_min || along - radius > t_max) return true;
+  return to_center.squaredNorm() - along * along > radius * radius;
+}
+
+}  // namespace
+
 bool Scene::intersect(const Ray& ray, Hit& hit, double t_min, double t_max) const {
   bool found = false;
   for (size_t index = 0; index < surfaces_.size(); ++index) {
     const Surface* surface = surfaces_[index].get();
-    const double radius = surface->boundingRadius();
-    if (std::isfinite(radius)) {
-      // Cull by the bounding sphere: skip when the ray's line misses it or it lies behind.
-      const Eigen::Vector3d to_center = surface->boundingCenter() - ray.origin;
-      const double along = to_center.dot(ray.direction);
-      if (along + radius < t_min || along - radius > t_max) continue;
-      if (to_center.squaredNorm() - along * along > radius * radius) continue;
-    }
+    if (missesBoundingSphere(*surface, ray, t_min, t_max)) continue;
     if (surface->intersect(ray, t_min, t_max, hit)) {
       t_max = hit.distance;
       hit.surface_index = static_cast<int>(index);
@@ -260,13 +268,7 @@ bool Scene::occluded(const Eigen::Vector3d& from, const Eigen::Vector3d& to) con
   // Tolerances keep a surface from shadowing itself at the start point.
   const double t_min = 1e-5, t_max = length - 1e-5;
   for (const auto& surface : surfaces_) {
-    const double radius = surface->boundingRadius();
-    if (std::isfinite(radius)) {
-      const Eigen::Vector3d to_center = surface->boundingCenter() - ray.origin;
-      const double along = to_center.dot(ray.direction);
-      if (along + radius < t_min || along - radius > t_max) continue;
-      if (to_center.squaredNorm() - along * along > radius * radius) continue;
-    }
+    if (missesBoundingSphere(*surface, ray, t_min, t_max)) continue;
     if (surface->occludes(ray, t_min, t_max)) return true;
   }
   return false;

@@ -4,6 +4,7 @@
 #include <body_scan_driver/ros/conversions.h>
 #include <body_scan_driver/ros/message_checks.h>
 #include <body_scan_merge/cloud_merge.h>
+#include <body_scan_merge/ros/cloud_view_msg.h>
 #include <body_scan_merge/scan_assembler.h>
 #include <body_scan_msgs/PairCloud.h>
 #include <body_scan_msgs/ScanReport.h>
@@ -138,13 +139,13 @@ class MergeNodelet : public nodelet::Nodelet {
     ros::Time stamp;
     for (const auto& [pair_id, part] : scan.parts) {
       const sensor_msgs::PointCloud2& cloud = part->cloud;
-      CloudView view;
+      Eigen::Isometry3d world_from_cloud;
       try {
         const auto t = tf_buffer_
                            ->lookupTransform(world_frame_, cloud.header.frame_id, ros::Time(0),
                                              ros::Duration(0.5))
                            .transform;
-        view.world_from_cloud =
+        world_from_cloud =
             Eigen::Translation3d(t.translation.x, t.translation.y, t.translation.z) *
             Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z);
       } catch (const tf2::TransformException& e) {
@@ -156,12 +157,8 @@ class MergeNodelet : public nodelet::Nodelet {
         report->pairs_missing.push_back(pair_id);
         continue;
       }
-      view.points = reinterpret_cast<const float*>(cloud.data.data());
-      view.count = static_cast<size_t>(cloud.width) * cloud.height;
-      view.stride = cloud.point_step / 4;
-      view.rgb_offset = -1;
-      for (const auto& field : cloud.fields)
-        if (field.name == "rgb") view.rgb_offset = static_cast<int>(field.offset / 4);
+      CloudView view = cloudView(cloud);
+      view.world_from_cloud = world_from_cloud;
       views.push_back(view);
       report->pairs_present.push_back(pair_id);
       slowest_pair = std::max(slowest_pair, part->processing_seconds);
