@@ -19,11 +19,12 @@ not rejoin.
 import argparse
 import os
 import signal
-import socket
 import subprocess
 import sys
 import threading
 import time
+
+from soak import free_port, percentile  # same directory
 
 POLES = ("pole_a", "pole_b", "pole_c")
 PAIRS = [f"{pole}/pair_{i}" for pole in POLES for i in range(1, 5)]
@@ -74,19 +75,6 @@ def link_bytes(pole):
     """Bytes through the pole's link so far, both directions."""
     base = f"/sys/class/net/{host_link(pole)}/statistics"
     return sum(int(open(f"{base}/{d}_bytes").read()) for d in ("rx", "tx"))
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def percentile(values, q):
-    ordered = sorted(values)
-    rank = q / 100.0 * (len(ordered) - 1)
-    low, high = int(rank), min(int(rank) + 1, len(ordered) - 1)
-    return ordered[low] + (ordered[high] - ordered[low]) * (rank - low)
 
 
 class Launches:

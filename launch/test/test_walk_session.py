@@ -19,6 +19,8 @@ import unittest
 
 import rospy
 import rostest
+
+from test_record_replay import wait_for_subscriber  # same directory
 from body_scan_msgs.msg import Identity, WalkProgress
 from body_scan_msgs.srv import CaptureWalk, ListSubjects, RemoveSubject
 
@@ -146,18 +148,6 @@ class WalkSession(unittest.TestCase):
         self.assertEqual(again.accepted, answer.accepted)
         self.assertAlmostEqual(again.score, answer.score, places=9)
         self.assertEqual(again.ranked_names, answer.ranked_names)
-
-
-def wait_for_subscriber(topic, node_prefix, timeout):
-    master = rospy.get_master()
-    deadline = time.time() + timeout
-    while time.time() < deadline:
-        _, _, state = master.getSystemState()
-        for name, nodes in state[1]:
-            if name == topic and any(n.startswith(node_prefix) for n in nodes):
-                return True
-        time.sleep(0.2)
-    return False
 
 
 if __name__ == "__main__":
