@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <stdexcept>
+#include <string>
 
 namespace body_scan_merge {
 namespace {
@@ -163,6 +164,27 @@ std::vector<std::vector<bool>> lightConflicts(const std::vector<PairGeometry>& p
   return conflicts;
 }
 
+double proxyCoverage(const std::vector<PairGeometry>& pairs, const InterferenceProxy& proxy) {
+  InterferenceProxy body = proxy;
+  body.floor_radius = 0;
+  std::vector<SurfacePoint> samples = sampleProxy(body);
+  samples.erase(std::remove_if(samples.begin(), samples.end(),
+                               [](const SurfacePoint& sample) { return sample.part < 0; }),
+                samples.end());
+  std::vector<PairView> views;
+  for (const PairGeometry& pair : pairs) views.push_back(pairView(pair));
+  size_t covered = 0;
+  for (const SurfacePoint& sample : samples)
+    for (const PairView& view : views)
+      if (seen(view, sample, 0) && lit(view, sample, 0) &&
+          !shadowed(body, sample, view.camera_position) &&
+          !shadowed(body, sample, view.source_world)) {
+        ++covered;
+        break;
+      }
+  return samples.empty() ? 0 : static_cast<double>(covered) / samples.size();
+}
+
 std::vector<std::vector<int>> minimumGroups(const std::vector<std::vector<bool>>& conflicts) {
   const int n = static_cast<int>(conflicts.size());
   if (n == 0) return {};
@@ -244,6 +266,19 @@ std::vector<std::vector<int>> minimumGroups(const std::vector<std::vector<bool>>
     groups[group].push_back(pair);
   }
   return groups;
+}
+
+double GroupTiming::seconds() const {
+  if (pattern_frames < 1)
+    throw std::invalid_argument("group timing: pattern_frames " + std::to_string(pattern_frames) +
+                                " must be at least 1 (2 + 2 x bits with inverse frames)");
+  if (!(camera_fps > 0) || !std::isfinite(camera_fps))
+    throw std::invalid_argument("group timing: camera_fps " + std::to_string(camera_fps) +
+                                " must be a positive frame rate");
+  if (settle_frames < 0)
+    throw std::invalid_argument("group timing: settle_frames " + std::to_string(settle_frames) +
+                                " must not be negative");
+  return pattern_frames * (1.0 + settle_frames) / camera_fps;
 }
 
 TimingPlan planTimingGroups(const std::vector<PairGeometry>& pairs,

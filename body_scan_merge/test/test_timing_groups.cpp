@@ -141,6 +141,23 @@ TEST(TimingGroups, PairsFacingEachOtherDoNotConflictPairsSideBySideDo) {
   EXPECT_EQ(plan.groups[0], (std::vector<std::string>{"front", "back"}));
 }
 
+// Thesis sec. 4.2.4: 0.5 s per group; the period follows the pattern and the camera.
+TEST(TimingGroups, TheGroupPeriodIsThePatternFramesAtTheCameraRate) {
+  EXPECT_DOUBLE_EQ(GroupTiming{}.seconds(), 0.5);
+  EXPECT_DOUBLE_EQ((GroupTiming{18, 30, 2}.seconds()), 1.8);  // usb pair: 30 Hz, 2 settle frames
+  EXPECT_DOUBLE_EQ((GroupTiming{10, 30, 0}.seconds()), 1.0 / 3);  // 8 bits, no inverse frames
+  for (const GroupTiming bad : {GroupTiming{0, 30, 0}, GroupTiming{18, 0, 0},
+                                GroupTiming{18, std::nan(""), 0}, GroupTiming{18, 30, -1}}) {
+    try {
+      bad.seconds();
+      ADD_FAILURE() << "accepted " << bad.pattern_frames << " " << bad.camera_fps << " "
+                    << bad.settle_frames;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("must"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(TimingGroups, TheColouringIsMinimal) {
   std::mt19937 generator(5);
   for (int trial = 0; trial < 60; ++trial) {
