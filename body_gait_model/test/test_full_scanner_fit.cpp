@@ -1,5 +1,5 @@
-// The body fit's acceptance on the product's clouds: subjects of varied anthropometry x the four gait
-// poses of thesis 5.3, each scanned by the simulated full scanner (12 pairs, timing groups,
+// The body fit's acceptance on the product's clouds: subjects of varied anthropometry x the four
+// gait poses of thesis 5.3, each scanned by the simulated full scanner (12 pairs, timing groups,
 // decode, triangulate, merge) and fitted; errors against the simulator's true skeleton.
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/eval/full_scanner_body.h>
