@@ -15,6 +15,7 @@ fuzz/):
   * Python: rospy.get_param / has_param / search_param("name").
   * dynamic_reconfigure: gen.add("name", ...) of cfg/X.cfg, read by the file that serves
     dynamic_reconfigure::Server<XConfig>.
+  * libraries: ~diagnostic_period, read by a diagnostic_updater::Updater (LIBRARY_READS).
 Each file belongs to one node: a plugin's (PLUGINLIB_EXPORT_CLASS type looked up in the
 package's plugin description XML files, e.g. body_scan_merge/Merge) or the executable named like
 the file (src/nodes/save_cloud.cpp -> save_cloud).
@@ -25,7 +26,12 @@ header has Default and Unit columns, first cell `~name` (or `name`, `<x>/name`).
 
 It fails, naming the file, the node and the fix, when a parameter is read but not in its node's
 table, a table row is read by no source of that node, a parameter-reading file belongs to no
-node, or a node reading parameters has no section. With --junit FILE it writes one JUnit test
+node, or a node reading parameters has no section. It also checks the launch and rostest files
+(launch/*.launch, test/*.test of every package): every private <param> or <rosparam param> a
+file sets on one of our nodes (an executable, a nodelet loaded with `nodelet load`, or a
+`*_node` that runs a nodelet) must be in that node's table, or in a table of the package's
+non-nodelet plugins (the PairDriver's backends read its private parameters): a misspelt name
+would be ignored silently. With --junit FILE it writes one JUnit test
 case per package for scripts/test_summary.py. Exit status 1 on any problem.
 """
 
@@ -59,6 +65,8 @@ RECONFIGURE_SERVER = re.compile(r"dynamic_reconfigure::Server\s*<\s*(?:\w+::)*(\
 PRIVATE_HANDLE_DECL = re.compile(
     r"ros::NodeHandle\s*&?\s*(\w+)\s*(?:\(\s*\"~\"\s*\)|=\s*(?:\w+\.)?getPrivateNodeHandle\(\)|"
     r"\{\s*\"~\"\s*\})|(\w+)\s*\(\s*\"~\"\s*\)")
+# Parameters that a library class reads from the private handle it is given.
+LIBRARY_READS = {"diagnostic_updater::Updater": ["~diagnostic_period"]}
 PLUGIN_EXPORT = re.compile(r"PLUGINLIB_EXPORT_CLASS\s*\(\s*([\w:]+)\s*,")
 PY_NODE = re.compile(r"rospy\.init_node\s*\(")
 CPP_MAIN = re.compile(r"\bint\s+main\s*\(")
@@ -103,6 +111,10 @@ def cpp_reads(text):
         add(m, False)
     for m in HELPER_CALL.finditer(code):
         add(m, is_private_handle(m.group("handle"), private_handles))
+    for library_class, keys in LIBRARY_READS.items():
+        used = code.find(library_class)
+        for key in keys if used >= 0 else []:
+            reads.setdefault(key, code.count("\n", 0, used) + 1)
     return reads
 
 
@@ -208,6 +220,81 @@ def readme_sections(readme):
     return sections
 
 
+def package_folders(root):
+    """Package name -> folder, for every package.xml of the workspace."""
+    folders = {}
+    for path in glob.glob(os.path.join(root, "*", "package.xml")):
+        name = ET.parse(path).getroot().findtext("name")
+        folders[name.strip()] = os.path.dirname(path)
+    return folders
+
+
+def node_plugin(package_dir, executable):
+    """The nodelet a `*_node` executable of the package loads (nodelet::Loader), else None."""
+    for path in glob.glob(os.path.join(package_dir, "src", "**", executable + ".cpp"),
+                          recursive=True):
+        found = re.search(r'loader\.load\s*\([^;]*?"(\w+/\w+)"', open(path).read(), re.S)
+        if found:
+            return found.group(1)
+    return None
+
+
+def launch_nodes(element):
+    """(node element, params it sets) of a launch tree, params as private keys ~name."""
+    for node in element.iter("node"):
+        params = []
+        for child in node:
+            name = child.get("name") if child.tag == "param" else (
+                child.get("param") if child.tag == "rosparam" else None)
+            if name and not name.startswith("/"):
+                params.append(name if name.startswith("~") else "~" + name)
+        yield node, params
+
+
+def check_launch_files(root, documented_rows):
+    """Problems of the launch and rostest files: parameters set on our nodes that their README
+    does not document. documented_rows(package, node) gives the accepted rows or None."""
+    folders = package_folders(root)
+    problems, checked = [], 0
+    files = sorted(glob.glob(os.path.join(root, "*", "launch", "*.launch")) +
+                   glob.glob(os.path.join(root, "*", "test", "**", "*.test"), recursive=True))
+    for path in files:
+        rel = os.path.relpath(path, root)
+        try:
+            tree = ET.parse(path).getroot()
+        except ET.ParseError as e:
+            problems.append("%s: not XML (%s)" % (rel, e))
+            continue
+        for node, params in launch_nodes(tree):
+            if not params:
+                continue
+            package, executable = node.get("pkg", ""), node.get("type", "")
+            args = (node.get("args") or "").split()
+            if package == "nodelet" and executable == "nodelet" and args[:1] == ["load"]:
+                identity = args[1] if len(args) > 1 else ""
+                package = identity.split("/")[0]
+            elif package in folders:
+                identity = node_plugin(folders[package], executable) or executable
+            else:
+                continue
+            if package not in folders:
+                continue
+            rows = documented_rows(folders[package], identity)
+            if rows is None:
+                continue  # not a documented node (a test executable)
+            for key in params:
+                checked += 1
+                if "$(" in key:
+                    continue
+                problem = ("%s sets parameter %s of node %s (%s), which %s/README.md does "
+                           "not document: fix the name or document it"
+                           % (rel, key, node.get("name"), identity,
+                              os.path.basename(folders[package])))
+                if not any(matches(row, key) for row in rows) and problem not in problems:
+                    problems.append(problem)
+    return problems, checked
+
+
 def matches(documented, read_key):
     """Whether a documented row names a read: equal, or <x>/name for a computed */name."""
     if read_key.startswith("*/"):
@@ -258,6 +345,32 @@ def check_package(package_dir):
     return problems, checked
 
 
+def documented_rows(package_dir, node):
+    """The parameter rows a launch file may set on `node` of the package: its section's, and
+    those of the package's plugins that are not nodelets (they read the node's private
+    parameters); None when the README has no section for the node."""
+    readme = os.path.join(package_dir, "README.md")
+    if not os.path.exists(readme):
+        return None
+    sections = readme_sections(readme)
+    own = [rows for heading, rows in sections if "`%s`" % node in heading]
+    if not own:
+        return None
+    helpers = set()
+    for path in glob.glob(os.path.join(package_dir, "*.xml")):
+        try:
+            for cls in ET.parse(path).getroot().iter("class"):
+                if cls.get("base_class_type") != "nodelet::Nodelet" and cls.get("name"):
+                    helpers.add(cls.get("name"))
+        except ET.ParseError:
+            continue
+    rows = {}
+    for heading, section_rows in sections:
+        if any("`%s`" % name in heading for name in helpers | {node}):
+            rows.update(section_rows)
+    return rows
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("packages", nargs="*", help="package folders (default: all)")
@@ -276,6 +389,17 @@ def main():
         cases.append((name, time.time() - start, "\n".join(problems) if problems else None,
                       "%d parameter reads documented" % checked))
         print("%s: %d parameter reads checked, %d problems" % (name, checked, len(problems)))
+    if not args.packages:
+        start = time.time()
+        problems, checked = check_launch_files(ROOT, documented_rows)
+        for problem in problems:
+            print(problem)
+        failed |= bool(problems)
+        cases.append(("launch_files", time.time() - start,
+                      "\n".join(problems) if problems else None,
+                      "%d parameters set in launch files documented" % checked))
+        print("launch and test files: %d parameters set checked, %d problems"
+              % (checked, len(problems)))
     if args.junit:
         write_junit(args.junit, "param_docs", cases)
     return 1 if failed else 0

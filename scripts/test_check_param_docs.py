@@ -131,6 +131,12 @@ class Extraction(PackageFixture):
         nodes, _ = check.node_reads(self.package)
         self.assertIn("~exposure_ms", nodes["demo/Thing"])
 
+    def test_diagnostic_updater_reads_its_period(self):
+        self.edit("src/nodelets/thing_nodelet.cpp", "class Thing",
+                  "std::unique_ptr<diagnostic_updater::Updater> diagnostics_;\nclass Thing")
+        nodes, _ = check.node_reads(self.package)
+        self.assertIn("~diagnostic_period", nodes["demo/Thing"])
+
 
 class Check(PackageFixture):
     def test_documented_package_passes(self):
@@ -160,6 +166,44 @@ class Check(PackageFixture):
         self.edit("README.md", "### `tool`", "### The tool")
         problems, _ = check.check_package(self.package)
         self.assertTrue(any("node tool reads ~count but has no" in p for p in problems), problems)
+
+
+LAUNCH = """<launch>
+  <node pkg="nodelet" type="nodelet" name="thing" args="load demo/Thing manager">
+    <param name="rate" value="1.0"/>
+    <rosparam param="pairs">[a, b]</rosparam>
+    <param name="/global" value="1"/>
+  </node>
+  <group ns="x"><node pkg="demo" type="tool" name="tool"><param name="count" value="2"/></node></group>
+  <node pkg="rviz" type="rviz" name="rviz"><param name="anything" value="1"/></node>
+</launch>
+"""
+
+
+class LaunchFiles(PackageFixture):
+    def problems(self):
+        problems, _ = check.check_launch_files(self.dir.name, check.documented_rows)
+        return problems
+
+    def test_documented_parameters_pass(self):
+        self.write("launch/demo.launch", LAUNCH)
+        problems, checked = check.check_launch_files(self.dir.name, check.documented_rows)
+        self.assertEqual(problems, [])
+        self.assertEqual(checked, 3)  # rate, pairs, count; /global and rviz's are not ours
+
+    def test_misspelt_parameter_fails(self):
+        self.write("launch/demo.launch", LAUNCH.replace('"count"', '"cuont"'))
+        problems = self.problems()
+        self.assertEqual(len(problems), 1)
+        self.assertIn("sets parameter ~cuont of node tool", problems[0])
+
+    def test_node_executable_that_loads_a_nodelet_is_the_nodelet(self):
+        self.write("src/nodes/thing_node.cpp", 'int main() { loader.load(name, "demo/Thing", r, a); }')
+        self.write("launch/demo.launch", '<launch><node pkg="demo" type="thing_node" name="t">'
+                   '<param name="ratee" value="1"/></node></launch>')
+        problems = self.problems()
+        self.assertEqual(len(problems), 1)
+        self.assertIn("~ratee of node t (demo/Thing)", problems[0])
 
 
 def main():
