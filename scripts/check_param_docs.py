@@ -31,8 +31,9 @@ node, or a node reading parameters has no section. It also checks the launch and
 file sets on one of our nodes (an executable, a nodelet loaded with `nodelet load`, or a
 `*_node` that runs a nodelet) must be in that node's table, or in a table of the package's
 non-nodelet plugins (the PairDriver's backends read its private parameters): a misspelt name
-would be ignored silently. With --junit FILE it writes one JUnit test
-case per package for scripts/test_summary.py. Exit status 1 on any problem.
+would be ignored silently. Every <arg> of a launch file (but value= ones) must have a doc=.
+With --junit FILE it writes one JUnit test case per package (and one for the launch files) for
+scripts/test_summary.py. Exit status 1 on any problem.
 """
 
 import argparse
@@ -265,6 +266,11 @@ def check_launch_files(root, documented_rows):
         except ET.ParseError as e:
             problems.append("%s: not XML (%s)" % (rel, e))
             continue
+        if path.endswith(".launch"):
+            for arg in tree.iter("arg"):
+                if arg.get("value") is None and not (arg.get("doc") or "").strip():
+                    problems.append("%s: arg %s has no doc=\"...\": say what it does"
+                                    % (rel, arg.get("name")))
         for node, params in launch_nodes(tree):
             if not params:
                 continue

@@ -197,6 +197,13 @@ class LaunchFiles(PackageFixture):
         self.assertEqual(len(problems), 1)
         self.assertIn("sets parameter ~cuont of node tool", problems[0])
 
+    def test_launch_arg_without_doc_fails(self):
+        self.write("launch/demo.launch", '<launch><arg name="rate" default="1" doc="Hz"/>'
+                   '<arg name="gui" default="true"/><arg name="x" value="1"/></launch>')
+        problems = self.problems()
+        self.assertEqual(len(problems), 1)
+        self.assertIn("arg gui has no doc", problems[0])
+
     def test_node_executable_that_loads_a_nodelet_is_the_nodelet(self):
         self.write("src/nodes/thing_node.cpp", 'int main() { loader.load(name, "demo/Thing", r, a); }')
         self.write("launch/demo.launch", '<launch><node pkg="demo" type="thing_node" name="t">'
