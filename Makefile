@@ -46,7 +46,7 @@ DEB_PACKAGES := \
 	catkin pkg-config ros-base-dev ros-core rosbash ros-message-generation ros-message-runtime \
 	libroscpp-dev libroslib-dev python3-rospy python3-roslaunch libnodeletlib-dev \
 	libnodeletlib-tools pluginlib-dev librostest-dev python3-rostest rviz \
-	libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev python3-sensor-msgs \
+	libstd-msgs-dev libstd-srvs-dev libgeometry-msgs-dev libsensor-msgs-dev python3-sensor-msgs \
 	libvisualization-msgs-dev python3-visualization-msgs libdiagnostic-msgs-dev \
 	python3-diagnostic-msgs libtf2-ros-dev libcamera-calibration-parsers-dev librosbag-dev \
 	python3-rosbag libdiagnostic-updater-dev libdynamic-reconfigure-config-init-mutex-dev \
@@ -210,7 +210,7 @@ fuzz:
 # sanitize: the whole suite's tests under ASan + UBSan (a rostest's nodes too), then TSan.
 # SAN_TESTS="test_a test_b ..." builds those targets and runs its test_* gtests, and the rostests
 # of SAN_ROSTESTS="pkg/name.test ..." (their test_<name> and nodes must be in SAN_TESTS):
-# a full sanitizer build takes long on 2 cores. A report aborts its process (the test fails);
+# a full sanitizer build takes long. A report aborts its process (the test fails);
 # reports: build/sanitize/reports/.
 SAN_TESTS ?=
 SAN_ROSTESTS ?=
