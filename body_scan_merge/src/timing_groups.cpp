@@ -53,6 +53,24 @@ std::vector<SurfacePoint> sampleProxy(const InterferenceProxy& proxy) {
                            Eigen::Vector3d(std::cos(t) / a, std::sin(t) / b, 0).normalized(),
                            static_cast<int>(&part - proxy.parts.data())});
       }
+    // The top (the top of the head, the shoulders): pairs looking down light and see it. Not
+    // where another part stands on it (the neck on the torso).
+    auto inside = [&](const ProxyCylinder& other, double x, double y, double z) {
+      const double u = (x - other.center_x) / other.semi_axis_x;
+      const double v = (y - other.center_y) / other.semi_axis_y;
+      return &other != &part && u * u + v * v < 1 && z > other.min_z && z < other.max_z;
+    };
+    for (double x = -a; x <= a; x += proxy.spacing)
+      for (double y = -b; y <= b; y += proxy.spacing) {
+        if ((x / a) * (x / a) + (y / b) * (y / b) > 1) continue;
+        const Eigen::Vector3d point(part.center_x + x, part.center_y + y, part.max_z);
+        if (std::any_of(proxy.parts.begin(), proxy.parts.end(), [&](const ProxyCylinder& other) {
+              return inside(other, point.x(), point.y(), point.z());
+            }))
+          continue;
+        samples.push_back(
+            {point, Eigen::Vector3d::UnitZ(), static_cast<int>(&part - proxy.parts.data())});
+      }
   }
   // The floor, more coarsely (a larger area; its overlaps are large too).
   const double floor_step = 2 * proxy.spacing;

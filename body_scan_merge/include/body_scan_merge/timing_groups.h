@@ -27,7 +27,7 @@ struct ProxyCylinder {
 };
 
 // The surfaces the light can fall on: a proxy of a subject standing at the origin facing +x
-// (DESIGN.md section 3), sampled every `spacing`. A point counts as lit (seen) when it faces
+// (DESIGN.md section 3), sampled every `spacing` on its sides and tops. A point counts as lit (seen) when it faces
 // the projector (camera), lies in its sweep (image) and no other part is in between; light
 // reaching the inner side of an arm or leg through a gap counts. Default: an adult envelope
 // (torso, arms held a little away, legs, head), larger than most subjects, and the floor around

@@ -212,6 +212,7 @@ SimulatedScore scoreInSimulator(const body_scan_driver::sim::Rig& rig,
         score.min_region_coverage =
             std::min(score.min_region_coverage, accuracy.regions.at(region).fraction());
     score.mean_distance += accuracy.mean_distance / score.per_subject.size();
+    score.outliers += accuracy.outliers;
   }
   return score;
 }
@@ -344,7 +345,8 @@ DesignResult designRig(const std::vector<RigTemplate>& templates,
              << candidate.simulation.groups.size() << " groups, coverage min "
              << 100 * candidate.simulation.min_coverage << " %, regions min "
              << 100 * candidate.simulation.min_region_coverage << " %, mean "
-             << std::setprecision(3) << 1000 * candidate.simulation.mean_distance << " mm";
+             << std::setprecision(3) << 1000 * candidate.simulation.mean_distance << " mm, "
+             << candidate.simulation.outliers << " points beyond 20 mm";
         say(line.str());
       }
     }
@@ -361,6 +363,13 @@ DesignResult designRig(const std::vector<RigTemplate>& templates,
       return std::make_tuple(plannedGroups(x), x.proxy.pairs, -x.simulation.min_coverage);
     };
     if (key(c) < key(best)) result.chosen = static_cast<int>(i);
+  }
+  for (size_t i = 0; i < result.candidates.size(); ++i) {
+    const Candidate& c = result.candidates[i];
+    if (c.simulated &&
+        (result.closest < 0 ||
+         c.simulation.min_coverage > result.candidates[result.closest].simulation.min_coverage))
+      result.closest = static_cast<int>(i);
   }
   return result;
 }
@@ -388,6 +397,12 @@ std::map<std::tuple<int, int, int>, size_t> bestPerCell(const DesignResult& resu
   return best;
 }
 
+std::string millimetres(double metres) {
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(3) << 1000 * metres << " mm";
+  return out.str();
+}
+
 std::string percent(double fraction) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(1) << 100 * fraction << " %";
@@ -410,8 +425,8 @@ std::string tradeOffTable(const DesignResult& result) {
     if (c.simulated) {
       out << percent(c.simulation.min_coverage) << " | "
           << percent(c.simulation.min_standing_coverage) << " | "
-          << percent(c.simulation.min_region_coverage) << " | " << std::fixed
-          << std::setprecision(3) << 1000 * c.simulation.mean_distance << " mm | ";
+          << percent(c.simulation.min_region_coverage) << " | "
+          << millimetres(c.simulation.mean_distance) << " | ";
     } else {
       out << "- | - | - | - | ";
     }

@@ -165,6 +165,11 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_path, "write the chosen rig file here");
   app.add_option("--table", table_path, "write the trade-off table (markdown)");
   app.add_option("--plot", plot_path, "write the trade-off plot (PNG)");
+  std::string finalists_dir;
+  app.add_option("--finalists-dir", finalists_dir,
+                 "write every simulated layout's rig file here (finalist_N.yaml, N = its index "
+                 "in the search)")
+      ->check(CLI::ExistingDirectory);
   app.add_option("--check", check_path,
                  "no search: scan the subjects with this rig file and its planned groups, and "
                  "measure the interference within the groups on the first subject")
@@ -207,20 +212,32 @@ int main(int argc, char** argv) {
       std::cout << table;
       if (!table_path.empty()) body_scan_driver::writeFileAtomically(table_path, table);
       if (!plot_path.empty()) design::writeTradeOffPlot(result, plot_path);
-      if (result.chosen < 0) {
+      if (!finalists_dir.empty())
+        for (size_t i = 0; i < result.candidates.size(); ++i)
+          if (result.candidates[i].simulated) {
+            const std::string name = "finalist_" + std::to_string(i);
+            body_scan_driver::writeFileAtomically(
+                finalists_dir + "/" + name + ".yaml",
+                design::rigFileYaml(result.candidates[i].choice, name, "plan_rig finalist"));
+          }
+      if (result.chosen < 0)
         std::cout << "no layout met the targets (coverage >= " << 100 * targets.body
                   << " %, standing >= " << 100 * targets.standing
-                  << " %, hard regions >= " << 100 * targets.region << " %): nothing written\n";
-      } else {
-        const design::Candidate& chosen = result.candidates[result.chosen];
-        std::cout << "chosen: " << chosen.choice.poles << " poles x "
-                  << chosen.choice.pairs_per_pole << " pairs, " << chosen.simulation.groups.size()
-                  << " timing groups\n";
+                  << " %, hard regions >= " << 100 * targets.region << " %)"
+                  << (result.closest < 0 ? ": nothing written\n"
+                                         : "; the closest (most least coverage) is written\n");
+      const int pick = result.chosen >= 0 ? result.chosen : result.closest;
+      if (pick >= 0) {
+        const design::Candidate& chosen = result.candidates[pick];
+        std::cout << (result.chosen >= 0 ? "chosen: " : "closest: ") << chosen.choice.poles
+                  << " poles x " << chosen.choice.pairs_per_pole << " pairs, "
+                  << chosen.simulation.groups.size() << " timing groups\n";
         printScore(chosen.simulation);
         if (!out_path.empty()) {
           std::ostringstream comment;
-          comment << "Written by plan_rig (seed " << options.seed
-                  << "): " << chosen.simulation.groups.size() << " timing groups; least coverage "
+          comment << "Written by plan_rig (seed " << options.seed << ")"
+                  << (result.chosen < 0 ? ", MISSING the coverage targets: " : ": ")
+                  << chosen.simulation.groups.size() << " timing groups; least coverage "
                   << std::fixed << std::setprecision(1) << 100 * chosen.simulation.min_coverage
                   << " % of " << subjects.size() << " subjects.\nFormat: see thesis_rig.yaml.";
           body_scan_driver::writeFileAtomically(

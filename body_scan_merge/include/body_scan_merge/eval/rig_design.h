@@ -80,6 +80,7 @@ struct SimulatedScore {
   double min_standing_coverage = 1;  // least over subjects whose name starts with "standing"
   double min_region_coverage = 0;    // least over subjects and hard regions
   double mean_distance = 0;          // m, mean over subjects
+  size_t outliers = 0;               // points beyond 20 mm of the truth, all subjects
   std::vector<std::pair<std::string, eval::ScanAccuracy>> per_subject;
 };
 
@@ -123,6 +124,8 @@ struct DesignResult {
   // Index into candidates of the pick: the fewest groups among the simulated candidates that
   // meet the coverage targets, then the most coverage; -1 when none does.
   int chosen = -1;
+  // When none does: the simulated candidate with the most least-body-coverage (-1: none).
+  int closest = -1;
 };
 
 struct CoverageTargets {
