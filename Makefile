@@ -210,7 +210,7 @@ fuzz:
 # sanitize: the whole suite's tests under ASan + UBSan (a rostest's nodes too), then TSan.
 # SAN_TESTS="test_a test_b ..." builds those targets and runs its test_* gtests, and the rostests
 # of SAN_ROSTESTS="pkg/name.test ..." (their test_<name> and nodes must be in SAN_TESTS):
-# a full sanitizer build takes long on 2 cores. A report aborts its process (the test fails);
+# a full sanitizer build takes long. A report aborts its process (the test fails);
 # reports: build/sanitize/reports/.
 SAN_TESTS ?=
 SAN_ROSTESTS ?=

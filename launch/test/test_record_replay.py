@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Record a live scan with record.launch, replay the bag with replay.launch (under /replay, next
 to the live scanner) and compare: the replayed merged cloud has the same point count and no
-coordinate differs by more than 1 micrometre (issue 4, must-show "Replay")."""
+coordinate differs by more than 1 micrometre."""
 import os
 import signal
 import struct
