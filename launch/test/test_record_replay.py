@@ -55,6 +55,19 @@ def xyz(cloud):
     return [struct.unpack_from("<3f", data, i) for i in range(0, len(data), step)]
 
 
+def wait_until(cond, predicate, timeout, poll=0.05):
+    """Waits until predicate() holds, woken by cond's notifications and every `poll` s: a
+    subscriber's connection count changes without any notification."""
+    deadline = time.monotonic() + timeout
+    with cond:
+        while not predicate():
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                return False
+            cond.wait(min(remaining, poll))
+        return True
+
+
 def wait_for_subscriber(topic, node_prefix, timeout):
     master = rospy.get_master()
     deadline = time.time() + timeout
