@@ -108,7 +108,9 @@ struct DesignOptions {
   int refine_steps = 60;  // local search steps from each of the 3 fewest group counts' best
   uint32_t seed = 1;
   int finalists = 2;  // per group count, the best by proxy coverage go to the simulator
-  double min_proxy_coverage = 0.9;  // candidates below are not finalists
+  // Candidates below are not finalists. The proxy counts less than the simulator sees (the
+  // thesis rig: 85 % on the proxy, 91-98 % simulated).
+  double min_proxy_coverage = 0.8;
   double proxy_spacing = 0.02;
 };
 
