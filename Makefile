@@ -49,7 +49,7 @@ DEB_PACKAGES := \
 	catkin pkg-config ros-base-dev ros-core rosbash ros-message-generation ros-message-runtime \
 	libroscpp-dev libroslib-dev python3-rospy python3-roslaunch libnodeletlib-dev \
 	libnodeletlib-tools pluginlib-dev librostest-dev python3-rostest rviz \
-	libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev python3-sensor-msgs \
+	libstd-msgs-dev libstd-srvs-dev libgeometry-msgs-dev libsensor-msgs-dev python3-sensor-msgs \
 	libvisualization-msgs-dev python3-visualization-msgs libdiagnostic-msgs-dev \
 	python3-diagnostic-msgs libtf2-ros-dev libcamera-calibration-parsers-dev librosbag-dev \
 	python3-rosbag libdiagnostic-updater-dev libdynamic-reconfigure-config-init-mutex-dev \
