@@ -1,4 +1,4 @@
-// Captures the views calibrate_pair needs through a running PairDriver (issue 3 item 7): for
+// Captures the views calibrate_pair needs through a running PairDriver: for
 // each reference-plane pose of the rig (calibration_rig.h) the board is placed - by the
 // simulator's ~set_scene service or by the operator, who presses Enter - and the pair captures
 // it `exposures` times (averaged: a static target); then the five evaluation spheres. Writes

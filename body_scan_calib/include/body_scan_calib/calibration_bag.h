@@ -1,4 +1,4 @@
-// Calibration captures recorded in a bag (issue 3 item 7): body_scan_msgs/PatternSet messages
+// Calibration captures recorded in a bag: body_scan_msgs/PatternSet messages
 // of one pair, converted to the image folder calibrate_pair reads (calibration_capture.h).
 // The ROS layer of the workflow (rosbag C++ API); the calibration itself stays ROS-agnostic.
 #pragma once
