@@ -159,7 +159,10 @@ results: build
 	$(PY) scripts/results.py
 
 # soak: build, then the long run of the whole scanner (scripts/soak.py). Fails on a missing scan,
-# a node's RSS growing > 5 % after the warm-up scans, or latency p99 > 2 x p50.
+# a node's RSS growing > 5 % over the run after the warm-up scans at the rate from the run's
+# second quarter to its last (the floor of the samples taken every 5 scans: a single reading
+# swings with what the node holds at that moment, and a high-water mark levels off early where a
+# leak goes on), or latency p99 > 2 x p50.
 SOAK_SCANS ?= 300
 soak: build
 	source $(BUILD_DIR)/devel/setup.bash && $(PY) scripts/soak.py --scans $(SOAK_SCANS)
@@ -222,7 +225,7 @@ fuzz:
 # sanitize: the whole suite's tests under ASan + UBSan (a rostest's nodes too), then TSan.
 # SAN_TESTS="test_a test_b ..." builds those targets and runs its test_* gtests, and the rostests
 # of SAN_ROSTESTS="pkg/name.test ..." (their test_<name> and nodes must be in SAN_TESTS):
-# a full sanitizer build takes long on 2 cores. A report aborts its process (the test fails);
+# a full sanitizer build takes long. A report aborts its process (the test fails);
 # reports: build/sanitize/reports/.
 SAN_TESTS ?=
 SAN_ROSTESTS ?=

@@ -122,8 +122,14 @@ class Scanner:
             self.cond.notify_all()
 
     def wait(self, predicate, timeout):
+        """Also re-checks every 50 ms: connection counts change without a notification."""
+        deadline = time.monotonic() + timeout
         with self.cond:
-            return self.cond.wait_for(predicate, timeout)
+            while not predicate():
+                if time.monotonic() >= deadline:
+                    return False
+                self.cond.wait(min(deadline - time.monotonic(), 0.05))
+            return True
 
     def ready(self, timeout):
         self.rospy.wait_for_service("/body_scan/capture", timeout=timeout)

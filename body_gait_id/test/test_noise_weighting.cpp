@@ -1,4 +1,4 @@
-// Cross-walk identification with the body-shape features and the noise weighting (issue 6),
+// Cross-walk identification with the body-shape features and the noise weighting,
 // on simulated people whose "fits" are their true models (no scan: --scanner truth) plus noise
 // of a known size per component (addFitNoise), a stand-in for the fitter's cross-walk noise
 // measured with evaluate_gait_id --measure-noise: the arms', neck's and head's lengths are 3-6x

@@ -17,6 +17,7 @@
 // (at most ~walk_trigger_timeout). Every pair's capture is stamped with the walk id and the pose
 // index (Capture.srv), which travel with the pattern sets to the scan report and the models.
 #include <body_scan_driver/calibration_file.h>
+#include <body_scan_driver/gray_code.h>
 #include <body_scan_driver/rig_layout.h>
 #include <body_scan_merge/timing_groups.h>
 #include <body_scan_msgs/Capture.h>
@@ -33,6 +34,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <condition_variable>
 #include <map>
 #include <memory>
@@ -47,6 +49,28 @@
 
 namespace body_scan_merge {
 
+// ~group_seconds when given, else the pairs' pattern frames at the camera's frame rate
+// (GroupTiming; the defaults give the thesis's 0.5 s).
+double groupSeconds(ros::NodeHandle& pnh) {
+  double seconds = 0;
+  if (pnh.getParam("group_seconds", seconds)) {
+    if (std::isfinite(seconds) && seconds > 0) return seconds;
+    ROS_ERROR("~group_seconds %.3f must be positive; timing it from the pattern instead", seconds);
+  }
+  GroupTiming timing;
+  const int bits = pnh.param("pattern_bits", 8);
+  const bool inverse = pnh.param("inverse_frames", true);
+  timing.camera_fps = pnh.param("camera_fps", timing.camera_fps);
+  timing.settle_frames = pnh.param("settle_frames", timing.settle_frames);
+  try {
+    timing.pattern_frames = body_scan_driver::PatternLayout(bits, inverse).frameCount();
+    return timing.seconds();
+  } catch (const std::exception& e) {
+    ROS_ERROR("timing group period: %s; using the thesis's 0.5 s", e.what());
+    return 0.5;
+  }
+}
+
 class ScanCoordinatorNodelet : public nodelet::Nodelet {
  private:
   void onInit() override {
@@ -60,7 +84,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     calibration_dir_ = pnh.param<std::string>("calibration_dir", "");
     calibration_suffix_ = pnh.param<std::string>("calibration_suffix", "_factory");
     world_frame_ = pnh.param<std::string>("world_frame", "world");
-    group_seconds_ = pnh.param("group_seconds", 0.5);
+    group_seconds_ = groupSeconds(pnh);
     pair_timeout_ = pnh.param("pair_timeout", 10.0);
     all_at_once_ = pnh.param("all_at_once", false);
     plan_wait_ = pnh.param("plan_wait", 30.0);
