@@ -18,8 +18,8 @@
 #                headless simulated scanner; latency p50/p99, every node's RSS, missing scans
 #                (report build/soak/soak.yaml); not part of `make test` (about 25 min)
 #   make results build + scripts/results.py: regenerates docs/RESULTS.md, every table of figures
-#                from the command that measures it (about 35 min on 2 cores; RESULTS_QUICK=1:
-#                smaller sizes, a few minutes); fits cached in build/results/fit_cache
+#                from the command that measures it (about 30 min on 2 cores; RESULTS_QUICK=1:
+#                smaller sizes, about 15 min); fits cached in build/results/fit_cache
 #   make format  clang-format -i every C++ file of the packages
 #   make fuzz    build every libFuzzer target (fuzz_* of the packages) with clang, ASan and
 #                UBSan in build/sanitize and run each FUZZ_SECONDS (default 60) from its checked-

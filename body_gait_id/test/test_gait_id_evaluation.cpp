@@ -103,7 +103,7 @@ TEST(GaitIdEvaluation, CrossWalkProtocolOnThreePeople) {
   // Another walk is much harder than the thesis protocol: measured (seed 1) 3D dynamic 41 / 60
   // with the walking joint ranges of the fitter (48 / 60 with the fitter before them),
   // dynamic+static 40 / 60 (the fitted lengths vary between walks about as much as between
-  // people); 95 % at 50 people is not reached (README, evaluate_gait_id).
+  // people); 95 % at 50 people is not reached (docs/RESULTS.md, "Recognition").
   const RecognitionMetrics& both = row(results, "3D dynamic+static").metrics;
   const RecognitionMetrics& dynamic = row(results, "3D dynamic").metrics;
   EXPECT_EQ(both.enrolled_probes, 60);  // walk 1's eta3, all 20 frames, of 3 people
@@ -135,7 +135,7 @@ TEST(GaitIdEvaluation, SingleScanProbesAreTheWalksOwnFits) {
       crossWalkProtocol(walks, rows, {}, false, 1, ProbeFrames::kSingleScans);
   print(results);
   // Measured (3 people, seed 1): 3D dynamic 10 / 12, dynamic+static 5 / 12 (chance 4 / 12):
-  // one fit's lengths are noisier than a walk's median (README, single-scan probes).
+  // one fit's lengths are noisier than a walk's median (docs/RESULTS.md, single-scan probes).
   const RecognitionMetrics& both = row(results, "3D dynamic+static single scans").metrics;
   const RecognitionMetrics& dynamic = row(results, "3D dynamic single scans").metrics;
   EXPECT_EQ(both.enrolled_probes, 12);

@@ -63,11 +63,11 @@ BagConversionResult bagToCalibrationFolder(
     scan_ids.push_back(set->scan_id);
   }
   if (scan_ids.empty())
-    throw CalibrationBagError(
-        "'" + bag_path + "' holds no " + type + " messages" +
-        (options.topic.empty() ? "" : " on " + options.topic) +
-        (options.pair_id.empty() ? "" : " of pair " + options.pair_id) +
-        "; record the pair's pattern_set topic (see README 'Calibrating a pair')");
+    throw CalibrationBagError("'" + bag_path + "' holds no " + type + " messages" +
+                              (options.topic.empty() ? "" : " on " + options.topic) +
+                              (options.pair_id.empty() ? "" : " of pair " + options.pair_id) +
+                              "; record the pair's pattern_set topic (see docs/REAL_RIG.md, "
+                              "'Capture the calibration views')");
   if (pairs.size() > 1) {
     std::string list;
     for (const std::string& pair : pairs) list += " " + pair;
