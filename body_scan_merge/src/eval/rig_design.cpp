@@ -164,10 +164,12 @@ std::vector<InterferenceProxy> proxySubjects(double spacing) {
   return {standing, walking, mirrored};
 }
 
-ProxyScore scoreOnProxy(const body_scan_driver::sim::Rig& rig, double spacing) {
+ProxyScore scoreOnProxy(const body_scan_driver::sim::Rig& rig, double spacing,
+                        double floor_radius) {
   const std::vector<PairGeometry> geometry = rigFactoryGeometry(rig);
   InterferenceProxy proxy;
   proxy.spacing = spacing;
+  proxy.floor_radius = floor_radius;
   ProxyScore score;
   score.pairs = static_cast<int>(rig.pairs.size());
   score.groups = static_cast<int>(minimumGroups(lightConflicts(geometry, proxy)).size());
@@ -178,9 +180,11 @@ ProxyScore scoreOnProxy(const body_scan_driver::sim::Rig& rig, double spacing) {
 }
 
 SimulatedScore scoreInSimulator(const body_scan_driver::sim::Rig& rig,
-                                const std::vector<Subject>& subjects) {
+                                const std::vector<Subject>& subjects, double floor_radius) {
   SimulatedScore score;
-  score.groups = plannedTimingGroups(rig);
+  InterferenceProxy planner;
+  planner.floor_radius = floor_radius;
+  score.groups = planTimingGroups(rigFactoryGeometry(rig), planner).groups;
   score.per_subject.resize(subjects.size());
   // Subjects on 2 threads (each scan renders its pairs one after another).
   std::atomic<size_t> next{0};
@@ -277,8 +281,8 @@ DesignResult designRig(const std::vector<RigTemplate>& templates,
     auto evaluate = [&](const std::vector<double>& at) {
       Candidate candidate;
       candidate.choice = choiceAt(t, at);
-      candidate.proxy =
-          scoreOnProxy(buildRig(candidate.choice, "candidate"), options.proxy_spacing);
+      candidate.proxy = scoreOnProxy(buildRig(candidate.choice, "candidate"), options.proxy_spacing,
+                                     options.floor_radius);
       result.candidates.push_back(std::move(candidate));
       units.push_back(at);
       return result.candidates.back().proxy;
@@ -336,7 +340,8 @@ DesignResult designRig(const std::vector<RigTemplate>& templates,
       });
       for (int f = 0; f < options.finalists && f < static_cast<int>(members.size()); ++f) {
         Candidate& candidate = result.candidates[members[f]];
-        candidate.simulation = scoreInSimulator(buildRig(candidate.choice, "candidate"), subjects);
+        candidate.simulation = scoreInSimulator(buildRig(candidate.choice, "candidate"), subjects,
+                                                options.floor_radius);
         candidate.simulated = true;
         met = met || meets(candidate.simulation, targets);
         std::ostringstream line;

@@ -140,6 +140,10 @@ int main(int argc, char** argv) {
                  "local search steps per group count (the 3 fewest)")
       ->capture_default_str()
       ->check(CLI::Range(0, 100000));
+  app.add_option("--floor-radius", options.floor_radius,
+                 "the timing-group planner's floor disc, m (the ScanCoordinator's ~floor_radius)")
+      ->capture_default_str()
+      ->check(body_scan_driver::tools::atLeast(0));
   app.add_option("--seed", options.seed, "random seed (the search is deterministic)")
       ->capture_default_str();
   app.add_option("--finalists", options.finalists,
@@ -182,8 +186,10 @@ int main(int argc, char** argv) {
     std::cout << subjects.size() << " subjects\n";
     if (!check_path.empty()) {
       const body_scan_driver::sim::Rig rig = body_scan_driver::sim::loadRig(check_path);
-      const design::SimulatedScore score = design::scoreInSimulator(rig, subjects);
-      const design::ProxyScore proxy = design::scoreOnProxy(rig);
+      const design::SimulatedScore score =
+          design::scoreInSimulator(rig, subjects, options.floor_radius);
+      const design::ProxyScore proxy =
+          design::scoreOnProxy(rig, options.proxy_spacing, options.floor_radius);
       std::cout << rig.pairs.size() << " pairs, " << score.groups.size()
                 << " timing groups (proxy coverage " << 100 * proxy.coverage << " %):";
       for (const auto& group : score.groups) {
