@@ -115,8 +115,9 @@ TEST(NoiseWeighting, ShapeAndWeightsRecoverTheSteadyComponents) {
   EXPECT_GT(both_rate, std::max(shape_rate, weighted_rate));
 }
 
-// A heavy-tailed failure, as the fitter's head radius shows (README): steady (0.2 % per pose),
-// except that for 3 of the 20 people one walk's head radius comes out at half its size. The
+// A heavy-tailed failure, as the fitter's head radius shows (evaluate_gait_id --measure-noise):
+// steady (0.2 % per pose), except that for 3 of the 20 people one walk's head radius comes out at
+// half its size. The
 // noise-weighted L2 loses them (the head radius is steady otherwise, so it weighs much); the robust
 // distance, which counts a component at most 3 noise SDs, keeps them.
 TEST(NoiseWeighting, RobustDistanceSurvivesAFailedComponent) {

@@ -298,6 +298,67 @@ FitQuality evaluateFit(const BodyModel& model, const Cloud& cloud,
 
 namespace {
 
+// Right and left leg from the points below the lower torso's base, in slices of slice_step top
+// down (model coordinates). Just below the crotch the legs lie either side of the hips' centre
+// (x), and the top slices are split there. Further down a split at that x fails in mid-stance,
+// where a foot crosses the midline and the leg of that side takes in the other foot (CMU walks:
+// knee 64 mm, thigh 56-60 % of its leg). So each leg's centre is tracked down in x-z from slice
+// to slice, as the arms are: a slice's points go to the nearer of the two centres carried down
+// from the slice above, re-centred on the points taken (a few 2-means steps), which follows legs
+// that pass each other in z or cross the midline in x.
+void splitLegs(const std::vector<Eigen::Vector3d>& model_points,
+               const std::vector<std::vector<size_t>>& slices, double centre_x,
+               std::vector<Part>& part) {
+  // The tracking starts from kSeedSlices slices split at the hips' centre with both thighs in
+  // them (each side at least kSeedShare of the slice): under dark trunks the top slices hold
+  // only stray points of the hands, and a centre seeded there never finds its thigh.
+  constexpr int kSeedSlices = 3;
+  constexpr double kSeedShare = 0.25;
+  constexpr int kSteps = 3;      // 2-means steps per slice
+  constexpr int kMinPoints = 3;  // a leg with fewer in a slice keeps its centre
+  // A leg left with less than this share of the points has been lost (the other centre took
+  // both): then the split at the hips' centre.
+  constexpr double kMinLegShare = 0.25;
+  const Part kLegs[2] = {kRightLeg, kLeftLeg};
+  Eigen::Vector2d centre[2] = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
+  int seed_slices = 0;
+  size_t total[2] = {0, 0};
+  auto xzOf = [&](size_t i) { return Eigen::Vector2d(model_points[i].x(), model_points[i].z()); };
+  std::vector<std::vector<int>> legs_of(slices.size());
+  for (size_t slice = 0; slice < slices.size(); ++slice) {
+    const auto& points = slices[slice];
+    std::vector<int>& leg_of = legs_of[slice];
+    leg_of.resize(points.size());
+    const bool seed = seed_slices < kSeedSlices;
+    for (int step = 0; step < (seed ? 1 : kSteps); ++step) {
+      Eigen::Vector2d sum[2] = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
+      int count[2] = {0, 0};
+      for (size_t k = 0; k < points.size(); ++k) {
+        const Eigen::Vector2d xz = xzOf(points[k]);
+        leg_of[k] = seed
+                        ? (xz.x() > centre_x ? 1 : 0)
+                        : ((xz - centre[1]).squaredNorm() < (xz - centre[0]).squaredNorm() ? 1 : 0);
+        sum[leg_of[k]] += xz;
+        ++count[leg_of[k]];
+      }
+      const int min_count =
+          seed ? std::max(kMinPoints, int(kSeedShare * double(points.size()))) : kMinPoints;
+      if (seed && (count[0] < min_count || count[1] < min_count)) continue;
+      seed_slices += seed;
+      for (int leg = 0; leg < 2; ++leg)
+        if (count[leg] >= min_count) centre[leg] = sum[leg] / count[leg];
+    }
+    for (int leg : leg_of) ++total[leg];
+  }
+  const double all = double(total[0] + total[1]);
+  const bool lost = all > 0 && std::min(total[0], total[1]) < kMinLegShare * all;
+  for (size_t slice = 0; slice < slices.size(); ++slice)
+    for (size_t k = 0; k < slices[slice].size(); ++k) {
+      const size_t i = slices[slice][k];
+      part[i] = kLegs[lost ? (model_points[i].x() > centre_x ? 1 : 0) : legs_of[slice][k]];
+    }
+}
+
 // The parts of the body (5.5.2-5.5.4) each point (model coordinates) belongs to.
 std::vector<Part> segmentBody(const std::vector<Eigen::Vector3d>& model_points,
                               const TorsoFit& torso, const Line& upper_axis, double body_height,
@@ -373,10 +434,14 @@ std::vector<Part> segmentBody(const std::vector<Eigen::Vector3d>& model_points,
   }
   const Eigen::Vector3d hip_line_centre =
       Line{torso.waist, torso.lower_direction}.atHeight(torso.base);
-  for (size_t i = 0; i < model_points.size(); ++i)
-    if (part[i] == kUnassigned && model_points[i].y() < torso.base)
-      part[i] = model_points[i].x() > hip_line_centre.x() ? kLeftLeg : kRightLeg;
-
+  std::vector<std::vector<size_t>> leg_slices;  // below the base, top down
+  for (const auto& slice : low_slices) {
+    std::vector<size_t> legs;
+    for (size_t i : slice)
+      if (part[i] == kUnassigned && model_points[i].y() < torso.base) legs.push_back(i);
+    if (!legs.empty() || !leg_slices.empty()) leg_slices.push_back(std::move(legs));
+  }
+  splitLegs(model_points, leg_slices, hip_line_centre.x(), part);
   return part;
 }
 

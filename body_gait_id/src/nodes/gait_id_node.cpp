@@ -28,7 +28,7 @@ namespace body_gait_id {
 // --subjects 20 --scanner sampler: eer_threshold 4.53, EER 11.8 %).
 constexpr double kDefaultAcceptThreshold = 4.5;
 // Open-set threshold of a walk's mean score with the recognition.launch defaults (dynamic +
-// static + shape, noise weights, median body): FPIR 0 % at FNIR 5 % (README).
+// static + shape, noise weights, median body): FPIR 0 % at FNIR 5 % (docs/RESULTS.md).
 constexpr double kDefaultWalkAcceptThreshold = 15.5;
 
 class GaitIdNode {
