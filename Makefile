@@ -17,6 +17,9 @@
 #   make soak    build + scripts/soak.py: SOAK_SCANS (default 300) consecutive scans of the
 #                headless simulated scanner; latency p50/p99, every node's RSS, missing scans
 #                (report build/soak/soak.yaml); not part of `make test` (about 25 min)
+#   make results build + scripts/results.py: regenerates docs/RESULTS.md, every table of figures
+#                from the command that measures it (about 30 min on 2 cores; RESULTS_QUICK=1:
+#                smaller sizes, about 15 min); fits cached in build/results/fit_cache
 #   make format  clang-format -i every C++ file of the packages
 #   make fuzz    build every libFuzzer target (fuzz_* of the packages) with clang, ASan and
 #                UBSan in build/sanitize and run each FUZZ_SECONDS (default 60) from its checked-
@@ -46,7 +49,7 @@ DEB_PACKAGES := \
 	catkin pkg-config ros-base-dev ros-core rosbash ros-message-generation ros-message-runtime \
 	libroscpp-dev libroslib-dev python3-rospy python3-roslaunch libnodeletlib-dev \
 	libnodeletlib-tools pluginlib-dev librostest-dev python3-rostest rviz \
-	libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev python3-sensor-msgs \
+	libstd-msgs-dev libstd-srvs-dev libgeometry-msgs-dev libsensor-msgs-dev python3-sensor-msgs \
 	libvisualization-msgs-dev python3-visualization-msgs libdiagnostic-msgs-dev \
 	python3-diagnostic-msgs libtf2-ros-dev libcamera-calibration-parsers-dev librosbag-dev \
 	python3-rosbag libdiagnostic-updater-dev libdynamic-reconfigure-config-init-mutex-dev \
@@ -80,7 +83,7 @@ define install_missing
 	fi
 endef
 
-.PHONY: deps build test demo bench format clean fuzz soak sanitize sanitize-build tsan
+.PHONY: deps build test demo bench results format clean fuzz soak sanitize sanitize-build tsan
 
 # deps: install the Debian packages in DEB_PACKAGES that are missing (idempotent).
 deps:
@@ -146,8 +149,20 @@ bench: build
 	echo "== ratios against ours (also in build/bench/report.txt)"; \
 	$(PY) scripts/bench_report.py $(BUILD_DIR)/bench/bench_*.json
 
+# results: build, plus the unit tests whose `[ figure ]` lines it reports, then
+# scripts/results.py, which runs the evaluation tools, tests and benchmarks and writes
+# docs/RESULTS.md (and the pictures the tools draw: docs/calibration/, docs/images/).
+RESULTS_TESTS := test_stripe_decoder test_triangulation test_camera_calibration_images \
+	test_real_captures test_rig
+results: build
+	cmake --build $(BUILD_DIR) -j$(JOBS) --target $(RESULTS_TESTS)
+	$(PY) scripts/results.py
+
 # soak: build, then the long run of the whole scanner (scripts/soak.py). Fails on a missing scan,
-# a node's RSS growing > 5 % after the warm-up scans, or latency p99 > 2 x p50.
+# a node's RSS growing > 5 % over the run after the warm-up scans at the rate from the run's
+# second quarter to its last (the floor of the samples taken every 5 scans: a single reading
+# swings with what the node holds at that moment, and a high-water mark levels off early where a
+# leak goes on), or latency p99 > 2 x p50.
 SOAK_SCANS ?= 300
 soak: build
 	source $(BUILD_DIR)/devel/setup.bash && $(PY) scripts/soak.py --scans $(SOAK_SCANS)
@@ -210,7 +225,7 @@ fuzz:
 # sanitize: the whole suite's tests under ASan + UBSan (a rostest's nodes too), then TSan.
 # SAN_TESTS="test_a test_b ..." builds those targets and runs its test_* gtests, and the rostests
 # of SAN_ROSTESTS="pkg/name.test ..." (their test_<name> and nodes must be in SAN_TESTS):
-# a full sanitizer build takes long on 2 cores. A report aborts its process (the test fails);
+# a full sanitizer build takes long. A report aborts its process (the test fails);
 # reports: build/sanitize/reports/.
 SAN_TESTS ?=
 SAN_ROSTESTS ?=

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Calibrates the simulated 2x2 rig from observations only (issue 3): every pair of
+# Calibrates the simulated 2x2 rig from observations only: every pair of
 # body_scan_calib/config/alignment/*.yaml with `calibrate_simulated_pair` (board poses + spheres),
 # then `align_simulated_rig --calibration-in` on those ESTIMATED calibrations (no factory
 # calibration).

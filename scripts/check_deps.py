@@ -69,6 +69,7 @@ ROS_PACKAGES = {
     "rviz": ["rviz"],
     "sensor_msgs": ["libsensor-msgs-dev", "python3-sensor-msgs"],
     "std_msgs": ["libstd-msgs-dev"],
+    "std_srvs": ["libstd-srvs-dev"],
     "tf2_ros": ["libtf2-ros-dev"],
     "visualization_msgs": ["libvisualization-msgs-dev", "python3-visualization-msgs"],
 }

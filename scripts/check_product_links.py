@@ -11,8 +11,8 @@ resolves our libraries there. Two checks:
     (INSTALL_PREFIX/lib/*/*_node and PRODUCT_NODES) lists no simulator or evaluation library
     (body_scan_sim, *_eval*, *evaluation*, *simulated_scan*) and no unresolved library;
   * paths: no installed ELF file (libraries and executables) contains the absolute path of
-    this checkout or `../shared`: binaries find data through ros::package::getPath or
-    arguments, never through source paths.
+    this checkout or a relative path to the data folder beside it: binaries find data through
+    ros::package::getPath or arguments, never through source paths.
 Prints one line per problem naming the file and the fix; exit status 1 on any problem.
 """
 
@@ -37,7 +37,8 @@ PRODUCT_NODES = ("body_scan_calib/world_alignment_publisher", "body_scan_merge/s
                  "body_scan_calib/capture_calibration_views", "body_scan_merge/plan_timing_groups",
                  "body_gait_id/gait_gallery", "body_scan_driver/list_devices",
                  "body_scan_driver/measure_projector_latency")
-FORBIDDEN_STRINGS = ("../shared",)
+# A relative path from the checkout to the data folder beside it.
+FORBIDDEN_STRINGS = (os.path.join("..", "shared"),)
 
 
 def is_elf(path):

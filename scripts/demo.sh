@@ -112,8 +112,12 @@ for key in ("scan_id", "walk_id", "pose_index", "pairs_present", "pairs_missing"
 PY
 echo "== merged cloud written to $demo/full_scan.ply and $demo/full_scan.pcd"
 echo "   open the file:      pcl_viewer $demo/full_scan.pcd   (or MeshLab / CloudCompare for the PLY)"
-echo "   look at it in rviz: source build/devel/setup.bash && roslaunch body_scan_launch full_scanner.launch ${walk_args[*]:-scene_file:=$scene}"
-echo "                       then: rosservice call /body_scan/capture_walk \"{walk_id: 0, pause: -1, trigger: true}\""
+echo "   look at it in rviz: source build/devel/setup.bash && roslaunch body_scan_launch full_scanner.launch ${walk_args[*]:-scene_file:=$scene} gallery_database:=$gallery"
+if [ -n "${SCENE:-}" ]; then
+  echo "                       then: rosservice call /body_scan/capture 0"
+else
+  echo "                       then: rosservice call /body_scan/capture_walk \"{walk_id: 0, pause: -1, trigger: true}\""
+fi
 echo "== identification (gait_id_node: fitted models -> the gallery's 240 poses, eq 5.16)"
 for _ in $(seq 240); do kill -0 $identity_pid 2>/dev/null || break; sleep 0.5; done
 kill $identity_pid 2>/dev/null && fail "not all identities on /body_gait/identity within 120 s"

@@ -1,5 +1,6 @@
 """JUnit XML result files for the workspace checks (scripts/check_deps.py,
-scripts/test_install_space.py), so that scripts/test_summary.py counts them with the gtests."""
+scripts/check_param_docs.py, scripts/test_install_space.py), so that scripts/test_summary.py
+counts them with the gtests."""
 import os
 from xml.sax.saxutils import escape, quoteattr
 

@@ -32,7 +32,7 @@ from junit import write_junit
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MIN_POINTS = 100000
-SERVICE_TIMEOUT = 300.0  # s for /body_scan/capture to come up (12 pairs start on 2 cores)
+SERVICE_TIMEOUT = 300.0  # s for /body_scan/capture to come up (12 pairs start at once)
 CLOUD_TIMEOUT = 240.0  # s from the capture request to the merged cloud
 
 

@@ -1,6 +1,6 @@
 // Identification latency (eq 5.16) of the indexed Matcher against its named peer, the
 // brute-force double scan (BruteForceMatcher), on synthetic galleries of 10 000 to 1 000 000
-// poses (250 to 25 000 subjects x 40 training poses). Targets (issue 6): <= 1 ms per query at
+// poses (250 to 25 000 subjects x 40 training poses). Targets: <= 1 ms per query at
 // 10 000 poses, <= 20 ms at 1 000 000.
 //
 // The synthetic people walk alike, as people do: one common cycle of 22 joint angles, personal

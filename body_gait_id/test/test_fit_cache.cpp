@@ -100,7 +100,7 @@ TEST(FitCache, KeyChangesWithSpecAndScanner) {
   moved = spec;
   moved.materials.hair.albedo = 0.05;
   EXPECT_NE(scanKey(moved, "sampler"), key);
-  // Bodies posed by explicit frames (motion capture, issue 7) differ by their frames alone.
+  // Bodies posed by explicit frames (motion capture) differ by their frames alone.
   moved = spec;
   moved.segment_frames = body_scan_driver::sim::bodySegmentFrames(spec);
   const std::string framed = scanKey(moved, "sampler");

@@ -109,7 +109,7 @@ TEST_F(GaitGalleryCli, EnrolListIdentifyExportRemove) {
   EXPECT_NE(r.output.find("1 subjects"), std::string::npos) << r.output;
 }
 
-// Issue 6's options: median body at enrolment, shape features and noise weights at
+// The recognition options: median body at enrolment, shape features and noise weights at
 // identification (own poses still exact); a bad noise file or walk body is an error with the fix.
 TEST_F(GaitGalleryCli, ShapeMedianAndNoiseWeights) {
   CliRun r = run("enroll --name Ada --walk-body median --models " + models_file(0));

@@ -105,7 +105,7 @@ TEST(GaitIdEvaluation, CrossWalkProtocolOnThreePeople) {
   // the walking joint ranges; the sampler's fits of 20 people are as accurate with either split,
   // 19.4 vs 19.5 mm: a few probes of 3 people move), dynamic+static 40 / 60 (the fitted lengths
   // vary between walks about as much as between people); 95 % at 50 people is not reached
-  // (README, evaluate_gait_id).
+  // (docs/RESULTS.md, "Recognition").
   const RecognitionMetrics& both = row(results, "3D dynamic+static").metrics;
   const RecognitionMetrics& dynamic = row(results, "3D dynamic").metrics;
   EXPECT_EQ(both.enrolled_probes, 60);  // walk 1's eta3, all 20 frames, of 3 people
@@ -137,7 +137,7 @@ TEST(GaitIdEvaluation, SingleScanProbesAreTheWalksOwnFits) {
       crossWalkProtocol(walks, rows, {}, false, 1, ProbeFrames::kSingleScans);
   print(results);
   // Measured (3 people, seed 1): 3D dynamic 10 / 12, dynamic+static 5 / 12 (chance 4 / 12):
-  // one fit's lengths are noisier than a walk's median (README, single-scan probes).
+  // one fit's lengths are noisier than a walk's median (docs/RESULTS.md, single-scan probes).
   const RecognitionMetrics& both = row(results, "3D dynamic+static single scans").metrics;
   const RecognitionMetrics& dynamic = row(results, "3D dynamic single scans").metrics;
   EXPECT_EQ(both.enrolled_probes, 12);

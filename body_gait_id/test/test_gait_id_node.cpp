@@ -310,7 +310,7 @@ TEST_F(GaitIdNodeTest, EnrolRestartIdentifySameAnswers) {
             std::size_t(kPeople - 1));
 }
 
-// Issue 6's best cross-walk variant through the node's parameters: body-shape features, median
+// The best cross-walk variant through the node's parameters: body-shape features, median
 // body at enrolment, components weighted by the shipped noise file. Same gallery people and
 // probes as above; the plain node on the same file is the peer. A bad noise file is reported
 // and the node identifies unweighted.

@@ -1,4 +1,4 @@
-// Cross-walk identification with the body-shape features and the noise weighting (issue 6),
+// Cross-walk identification with the body-shape features and the noise weighting,
 // on simulated people whose "fits" are their true models (no scan: --scanner truth) plus noise
 // of a known size per component (addFitNoise), a stand-in for the fitter's cross-walk noise
 // measured with evaluate_gait_id --measure-noise: the arms', neck's and head's lengths are 3-6x
@@ -115,8 +115,9 @@ TEST(NoiseWeighting, ShapeAndWeightsRecoverTheSteadyComponents) {
   EXPECT_GT(both_rate, std::max(shape_rate, weighted_rate));
 }
 
-// A heavy-tailed failure, as the fitter's head radius shows (README): steady (0.2 % per pose),
-// except that for 3 of the 20 people one walk's head radius comes out at half its size. The
+// A heavy-tailed failure, as the fitter's head radius shows (evaluate_gait_id --measure-noise):
+// steady (0.2 % per pose), except that for 3 of the 20 people one walk's head radius comes out at
+// half its size. The
 // noise-weighted L2 loses them (the head radius is steady otherwise, so it weighs much); the robust
 // distance, which counts a component at most 3 noise SDs, keeps them.
 TEST(NoiseWeighting, RobustDistanceSurvivesAFailedComponent) {

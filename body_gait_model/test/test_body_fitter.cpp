@@ -50,7 +50,7 @@ TEST(BodyFitter, FitsSubjectsInTheFourGaitPoses) {
       cases, 1000 * joint, 100 * length, swing * 180 / kPi, right, cases,
       1000 * fit_seconds / cases);
   EXPECT_EQ(right, cases);
-  // Issue 5 targets.
+  // The body fit's targets: swing 4 deg, joints 25 mm, lengths 5 %.
   EXPECT_LE(swing, 4 * kPi / 180);
   EXPECT_LE(joint, 0.025);
   EXPECT_LE(length, 0.05);

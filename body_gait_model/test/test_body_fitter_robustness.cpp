@@ -1,4 +1,4 @@
-// Robustness of the fit (issue 5): one projector-camera pair missing and arms touching the
+// Robustness of the fit: one projector-camera pair missing and arms touching the
 // torso stay within 2x the joint-centre target (2 x 25 mm) with front/left right; dark hair
 // and trunks either fit within 2x or come back flagged low quality.
 #include <body_gait_model/body_fitter.h>

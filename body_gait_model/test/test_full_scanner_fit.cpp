@@ -1,5 +1,5 @@
-// Issue 5's acceptance on the product's clouds: subjects of varied anthropometry x the four gait
-// poses of thesis 5.3, each scanned by the simulated full scanner (12 pairs, timing groups,
+// The body fit's acceptance on the product's clouds: subjects of varied anthropometry x the four
+// gait poses of thesis 5.3, each scanned by the simulated full scanner (12 pairs, timing groups,
 // decode, triangulate, merge) and fitted; errors against the simulator's true skeleton.
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/eval/full_scanner_body.h>
@@ -57,7 +57,7 @@ TEST(FullScannerFit, SubjectsInTheFourGaitPosesFromFullScannerClouds) {
   for (const auto& [name, sum] : per_joint)
     std::printf(" %s %.1f", name.c_str(), 1000 * sum / cases);
   std::printf("\n");
-  // Issue 5's targets: 25 mm, 5 %, 4 deg, every fit facing right and none flagged (above).
+  // The body fit's targets: 25 mm, 5 %, 4 deg, every fit facing right and none flagged (above).
   EXPECT_EQ(right, cases);
   EXPECT_LE(joint, 0.025);
   EXPECT_LE(length, 0.05);

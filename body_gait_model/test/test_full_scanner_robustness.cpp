@@ -1,4 +1,4 @@
-// Issue 5's robustness cases on the product's clouds: the simulated full scanner with one pair
+// The body fit's robustness cases on the product's clouds: the simulated full scanner with one pair
 // missing, the arms touching the torso, and hair and trunks so dark (albedo 0.03) that little of
 // them decodes. Each stays within 2x the targets (50 mm) with every unflagged fit facing right;
 // a fit that goes wrong must come back flagged low quality. Subjects 5 and 9 of 10: the one

@@ -1,4 +1,4 @@
-// Simulated people (issue 6, item 4): statures against ANSUR II, proportions varying as people's
+// Simulated people: statures against ANSUR II, proportions varying as people's
 // do, walks of one person closer to each other than to other people's, every pose within
 // Table 5.2, and a forward stride from every person's gait cycle.
 #include <body_gait_model/eval/gait_subjects.h>

@@ -1,7 +1,7 @@
 #include <body_scan_calib/calibration_bag.h>
 #include <body_scan_calib/calibration_capture.h>
 #include <body_scan_calib/capture_folder.h>
-#include <body_scan_driver/gray_code.h>
+#include <body_scan_driver/ros/message_checks.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
@@ -12,30 +12,15 @@
 namespace body_scan_calib {
 
 std::vector<cv::Mat> patternFrames(const body_scan_msgs::PatternSet& set) {
-  const std::string scan =
-      "pattern set of scan " + std::to_string(set.scan_id) + " (" + set.pair_id + ")";
-  if (set.bits < 1 || set.bits > 10)
-    throw CalibrationBagError(scan + ": bits " + std::to_string(set.bits) + " is not in 1..10");
-  const body_scan_driver::PatternLayout layout(set.bits, set.inverse_frames);
-  if (static_cast<int>(set.frames.size()) != layout.frameCount())
-    throw CalibrationBagError(scan + " has " + std::to_string(set.frames.size()) + " frames; " +
-                              std::to_string(set.bits) + " bits" +
-                              (set.inverse_frames ? " with inverses" : "") + " need " +
-                              std::to_string(layout.frameCount()));
+  if (const auto problem = body_scan_driver::checkPatternSet(set))
+    throw CalibrationBagError("pattern set of scan " + std::to_string(set.scan_id) + " (" +
+                              set.pair_id + "): " + *problem +
+                              "; record the PairDriver's pattern_set topic unchanged");
   std::vector<cv::Mat> frames;
-  for (size_t f = 0; f < set.frames.size(); ++f) {
-    const sensor_msgs::Image& image = set.frames[f];
-    if (image.encoding != "mono8" || image.step < image.width ||
-        image.data.size() < static_cast<size_t>(image.step) * image.height)
-      throw CalibrationBagError(scan + ": frame " + std::to_string(f) +
-                                " is not a complete mono8 image (encoding '" + image.encoding +
-                                "'); record the PairDriver's pattern_set topic unchanged");
-    if (f > 0 && (image.width != set.frames[0].width || image.height != set.frames[0].height))
-      throw CalibrationBagError(scan + ": frame " + std::to_string(f) + " differs in size");
+  for (const sensor_msgs::Image& image : set.frames)
     frames.push_back(cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), CV_8UC1,
                              const_cast<uint8_t*>(image.data.data()), image.step)
                          .clone());
-  }
   return frames;
 }
 
@@ -78,11 +63,11 @@ BagConversionResult bagToCalibrationFolder(
     scan_ids.push_back(set->scan_id);
   }
   if (scan_ids.empty())
-    throw CalibrationBagError(
-        "'" + bag_path + "' holds no " + type + " messages" +
-        (options.topic.empty() ? "" : " on " + options.topic) +
-        (options.pair_id.empty() ? "" : " of pair " + options.pair_id) +
-        "; record the pair's pattern_set topic (see README 'Calibrating a pair')");
+    throw CalibrationBagError("'" + bag_path + "' holds no " + type + " messages" +
+                              (options.topic.empty() ? "" : " on " + options.topic) +
+                              (options.pair_id.empty() ? "" : " of pair " + options.pair_id) +
+                              "; record the pair's pattern_set topic (see docs/REAL_RIG.md, "
+                              "'Capture the calibration views')");
   if (pairs.size() > 1) {
     std::string list;
     for (const std::string& pair : pairs) list += " " + pair;

@@ -5,6 +5,7 @@
 #include <body_scan_calib/calibration_capture.h>
 #include <body_scan_calib/calibration_rig.h>
 #include <body_scan_calib/capture_folder.h>
+#include <body_scan_calib/pattern_set_waiter.h>
 #include <body_scan_calib/sim/calibration_scenes.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <gtest/gtest.h>
@@ -129,6 +130,7 @@ body_scan_msgs::PatternSet randomSet(uint32_t scan_id, const std::string& pair_i
                                      std::mt19937& random, std::vector<cv::Mat>& frames,
                                      int row_padding = 0) {
   body_scan_msgs::PatternSet set;
+  set.header.frame_id = "pair_camera";
   set.pair_id = pair_id;
   set.scan_id = scan_id;
   set.scheme = "gray";
@@ -239,4 +241,38 @@ TEST(CalibrationBag, RejectsBagsWithoutOrWithSeveralPairs) {
   EXPECT_THROW(body_scan_calib::bagToCalibrationFolder((folder / "missing.bag").string(), out, {}),
                body_scan_calib::CalibrationBagError);
   fs::remove_all(folder);
+}
+
+// A set whose frames declare a row step smaller than their width (any node may publish one):
+// capture_calibration_views keeps waiting for a whole set and, if none comes, its error names
+// the field; the bag converter refuses it naming the field. Nothing reads past the data.
+TEST(PatternSetWaiter, RejectsAMalformedSetNamingTheFieldAndKeepsTheGoodOne) {
+  std::mt19937 random(7);
+  std::vector<cv::Mat> frames;
+  const body_scan_msgs::PatternSet good = randomSet(1000, "pole_a/pair_1", random, frames);
+  body_scan_msgs::PatternSet::Ptr bad(new body_scan_msgs::PatternSet(good));
+  bad->frames[0].step = bad->frames[0].width / 2;
+
+  body_scan_calib::PatternSetWaiter waiter;
+  EXPECT_NO_THROW(waiter.onPatternSet(bad));
+  EXPECT_EQ(waiter.waitFor(1000, 0.0), nullptr);
+  const auto rejection = waiter.rejection(1000);
+  ASSERT_TRUE(rejection.has_value());
+  EXPECT_NE(rejection->find("frames[0].step 16 is less than width"), std::string::npos)
+      << *rejection;
+  EXPECT_FALSE(waiter.rejection(1001).has_value());
+
+  waiter.onPatternSet(body_scan_msgs::PatternSet::ConstPtr(new body_scan_msgs::PatternSet(good)));
+  const auto received = waiter.waitFor(1000, 0.0);
+  ASSERT_NE(received, nullptr);
+  EXPECT_EQ(differingPixels(body_scan_calib::patternFrames(*received), frames), 0);
+
+  try {
+    body_scan_calib::patternFrames(*bad);
+    ADD_FAILURE() << "a set with step < width was read";
+  } catch (const body_scan_calib::CalibrationBagError& e) {
+    EXPECT_NE(std::string(e.what()).find("scan 1000 (pole_a/pair_1): frames[0].step"),
+              std::string::npos)
+        << e.what();
+  }
 }

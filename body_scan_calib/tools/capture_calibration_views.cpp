@@ -1,4 +1,4 @@
-// Captures the views calibrate_pair needs through a running PairDriver (issue 3 item 7): for
+// Captures the views calibrate_pair needs through a running PairDriver: for
 // each reference-plane pose of the rig (calibration_rig.h) the board is placed - by the
 // simulator's ~set_scene service or by the operator, who presses Enter - and the pair captures
 // it `exposures` times (averaged: a static target); then the five evaluation spheres. Writes
@@ -9,6 +9,7 @@
 #include <body_scan_calib/calibration_capture.h>
 #include <body_scan_calib/calibration_rig.h>
 #include <body_scan_calib/capture_folder.h>
+#include <body_scan_calib/pattern_set_waiter.h>
 #include <body_scan_driver/rig_layout.h>
 #include <body_scan_msgs/Capture.h>
 #include <body_scan_msgs/PatternSet.h>
@@ -19,12 +20,9 @@
 #include <unistd.h>
 
 #include <cmath>
-#include <condition_variable>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <memory>
-#include <mutex>
 
 using namespace body_scan_driver;
 namespace fs = std::filesystem;
@@ -51,30 +49,6 @@ struct Placement {
 // Scan ids: placement p uses 1000 (p + 1) + exposure, so each placement is one run of
 // consecutive ids and bag_to_calibration_folder recovers the placements from a bag.
 constexpr uint32_t kScanIdsPerPlacement = 1000;
-
-class PatternSetWaiter {
- public:
-  void onPatternSet(const body_scan_msgs::PatternSet::ConstPtr& set) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    received_[set->scan_id] = set;
-    arrived_.notify_all();
-  }
-  body_scan_msgs::PatternSet::ConstPtr waitFor(uint32_t scan_id, double timeout_s) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    const bool arrived = arrived_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] {
-      return received_.count(scan_id) > 0 || !ros::ok();
-    });
-    if (!arrived || !received_.count(scan_id)) return nullptr;
-    auto set = received_[scan_id];
-    received_.clear();
-    return set;
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable arrived_;
-  std::map<uint32_t, body_scan_msgs::PatternSet::ConstPtr> received_;
-};
 
 std::string describeBoardPose(const Eigen::Isometry3d& pose) {
   const Eigen::Vector3d normal = pose.linear().col(2);
@@ -252,7 +226,7 @@ struct CapturedSets {
 // ~exposures captures of placement `p`: each recorded into `bag` (if any); with ~folder, their
 // frames averaged and written into the placement's folder.
 void capturePlacement(const Settings& settings, const Placement& placement, size_t p,
-                      PatternSetWaiter& waiter, Driver& driver, rosbag::Bag* bag,
+                      body_scan_calib::PatternSetWaiter& waiter, Driver& driver, rosbag::Bag* bag,
                       CapturedSets& captured) {
   std::vector<std::vector<cv::Mat>> captures;
   for (int exposure = 0; exposure < settings.exposures; ++exposure) {
@@ -263,11 +237,14 @@ void capturePlacement(const Settings& settings, const Placement& placement, size
           placement.name + ": capture failed: " +
           (capture.response.message.empty() ? "service call failed" : capture.response.message));
     const auto set = waiter.waitFor(capture.response.scan_id, settings.capture_timeout);
-    if (!set)
-      throw std::runtime_error(placement.name + ": pattern set of scan " +
-                               std::to_string(capture.response.scan_id) + " not received on " +
-                               driver.pattern_sub.getTopic() + " within " +
-                               std::to_string(settings.capture_timeout) + " s");
+    if (!set) {
+      const auto rejection = waiter.rejection(capture.response.scan_id);
+      throw std::runtime_error(
+          placement.name + ": pattern set of scan " + std::to_string(capture.response.scan_id) +
+          " not received on " + driver.pattern_sub.getTopic() + " within " +
+          std::to_string(settings.capture_timeout) + " s" +
+          (rejection ? " (the set of that scan was rejected: " + *rejection + ")" : ""));
+    }
     captured.bits = set->bits;
     if (captured.pair_id.empty()) captured.pair_id = set->pair_id;
     if (bag) bag->write(driver.pattern_sub.getTopic(), ros::Time::now(), *set);
@@ -287,9 +264,10 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
     world_from_camera = body_scan_driver::loadPairFilePose(settings.pair_file);
   const std::vector<Placement> plan = placements(settings, world_from_camera);
 
-  PatternSetWaiter waiter;
+  body_scan_calib::PatternSetWaiter waiter;
   Driver driver;
-  driver.pattern_sub = nh.subscribe("pattern_set", 4, &PatternSetWaiter::onPatternSet, &waiter);
+  driver.pattern_sub =
+      nh.subscribe("pattern_set", 4, &body_scan_calib::PatternSetWaiter::onPatternSet, &waiter);
   driver.capture_client = nh.serviceClient<body_scan_msgs::Capture>(settings.driver + "/capture");
   driver.scene_client = nh.serviceClient<body_scan_msgs::SetScene>(settings.driver + "/set_scene");
   ros::AsyncSpinner spinner(1);

@@ -1,15 +1,15 @@
-// PatternSet (Triangulate's input): bytes -> ROS deserialization -> checkPatternSet -> what
-// Triangulate does with a set that passes: decode, triangulate (a 32x24 virtual pair's factory
-// calibration; sets of other sizes stop at the decoder, as the Triangulator would refuse them)
-// and colour from the texture. A set the check passes must never make the core throw.
+// PatternSet (Triangulate's input): bytes -> ROS deserialization -> checkPatternSet -> the
+// Triangulate nodelet's own path for a set that passes (PatternSetCloud: decode, triangulate
+// with a 32x24 virtual pair's factory calibration, colour from the texture). A set the check
+// passes must never make that path throw, except the Triangulator's refusal of frames of
+// another size than its calibration's (they are still decoded first, as in the nodelet).
 #include <body_scan_driver/fuzz_target.h>
 #include <body_scan_driver/ros/message_checks.h>
+#include <body_scan_driver/ros/pattern_set_cloud.h>
 #include <body_scan_driver/sim/virtual_pair.h>
-#include <body_scan_driver/stripe_decoder.h>
-#include <body_scan_driver/triangulation.h>
 
 #include <memory>
-#include <opencv2/core.hpp>
+#include <stdexcept>
 
 namespace {
 
@@ -28,32 +28,21 @@ const Triangulator& smallPair() {
   return *triangulator;
 }
 
-cv::Mat view(const sensor_msgs::Image& image, int type) {
-  return cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), type,
-                 const_cast<uint8_t*>(image.data.data()), image.step);
-}
-
 }  // namespace
 
 BODY_SCAN_FUZZ_TARGET(pattern_set) {
   body_scan_msgs::PatternSet set;
   if (!fuzz::deserialize(data, size, set) || checkPatternSet(set)) return 0;
-  std::vector<cv::Mat> frames;
-  for (const auto& frame : set.frames) frames.push_back(view(frame, CV_8UC1));
-  StripeImage stripes;
-  StripeDecoder(PatternLayout(set.bits, set.inverse_frames), DecoderParams())
-      .decode(frames, stripes);
   const Triangulator& triangulator = smallPair();
-  if (frames[0].cols != triangulator.calibration().camera.width ||
-      frames[0].rows != triangulator.calibration().camera.height)
-    return 0;
-  std::vector<float> points(4 * frames[0].total());
-  triangulator.triangulate(stripes.coordinate, points.data(), 4);
-  if (!set.texture.data.empty()) {  // the colour loop reads every texture pixel
-    const cv::Mat texture = view(set.texture, CV_8UC3);
-    volatile unsigned sink = 0;
-    for (int v = 0; v < texture.rows; ++v)
-      for (int u = 0; u < texture.cols; ++u) sink = sink + texture.at<cv::Vec3b>(v, u)[0];
+  static PatternSetCloud cloud_maker;  // keeps its decoder between inputs, as the nodelet does
+  sensor_msgs::PointCloud2 cloud;
+  try {
+    cloud_maker.triangulate(set, triangulator, cloud);
+  } catch (const std::invalid_argument&) {
+    const PinholeCamera& camera = triangulator.calibration().camera;
+    const bool calibration_size = set.frames[0].width == static_cast<uint32_t>(camera.width) &&
+                                  set.frames[0].height == static_cast<uint32_t>(camera.height);
+    if (calibration_size) throw;  // a checked set of the right size must triangulate
   }
   return 0;
 }

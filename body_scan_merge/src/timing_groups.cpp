@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <stdexcept>
+#include <string>
 
 namespace body_scan_merge {
 namespace {
@@ -51,6 +52,24 @@ std::vector<SurfacePoint> sampleProxy(const InterferenceProxy& proxy) {
         samples.push_back({{part.center_x + a * std::cos(t), part.center_y + b * std::sin(t), z},
                            Eigen::Vector3d(std::cos(t) / a, std::sin(t) / b, 0).normalized(),
                            static_cast<int>(&part - proxy.parts.data())});
+      }
+    // The top (the top of the head, the shoulders): pairs looking down light and see it. Not
+    // where another part stands on it (the neck on the torso).
+    auto inside = [&](const ProxyCylinder& other, double x, double y, double z) {
+      const double u = (x - other.center_x) / other.semi_axis_x;
+      const double v = (y - other.center_y) / other.semi_axis_y;
+      return &other != &part && u * u + v * v < 1 && z > other.min_z && z < other.max_z;
+    };
+    for (double x = -a; x <= a; x += proxy.spacing)
+      for (double y = -b; y <= b; y += proxy.spacing) {
+        if ((x / a) * (x / a) + (y / b) * (y / b) > 1) continue;
+        const Eigen::Vector3d point(part.center_x + x, part.center_y + y, part.max_z);
+        if (std::any_of(proxy.parts.begin(), proxy.parts.end(), [&](const ProxyCylinder& other) {
+              return inside(other, point.x(), point.y(), point.z());
+            }))
+          continue;
+        samples.push_back(
+            {point, Eigen::Vector3d::UnitZ(), static_cast<int>(&part - proxy.parts.data())});
       }
   }
   // The floor, more coarsely (a larger area; its overlaps are large too).
@@ -163,6 +182,27 @@ std::vector<std::vector<bool>> lightConflicts(const std::vector<PairGeometry>& p
   return conflicts;
 }
 
+double proxyCoverage(const std::vector<PairGeometry>& pairs, const InterferenceProxy& proxy) {
+  InterferenceProxy body = proxy;
+  body.floor_radius = 0;
+  std::vector<SurfacePoint> samples = sampleProxy(body);
+  samples.erase(std::remove_if(samples.begin(), samples.end(),
+                               [](const SurfacePoint& sample) { return sample.part < 0; }),
+                samples.end());
+  std::vector<PairView> views;
+  for (const PairGeometry& pair : pairs) views.push_back(pairView(pair));
+  size_t covered = 0;
+  for (const SurfacePoint& sample : samples)
+    for (const PairView& view : views)
+      if (seen(view, sample, 0) && lit(view, sample, 0) &&
+          !shadowed(body, sample, view.camera_position) &&
+          !shadowed(body, sample, view.source_world)) {
+        ++covered;
+        break;
+      }
+  return samples.empty() ? 0 : static_cast<double>(covered) / samples.size();
+}
+
 std::vector<std::vector<int>> minimumGroups(const std::vector<std::vector<bool>>& conflicts) {
   const int n = static_cast<int>(conflicts.size());
   if (n == 0) return {};
@@ -244,6 +284,19 @@ std::vector<std::vector<int>> minimumGroups(const std::vector<std::vector<bool>>
     groups[group].push_back(pair);
   }
   return groups;
+}
+
+double GroupTiming::seconds() const {
+  if (pattern_frames < 1)
+    throw std::invalid_argument("group timing: pattern_frames " + std::to_string(pattern_frames) +
+                                " must be at least 1 (2 + 2 x bits with inverse frames)");
+  if (!(camera_fps > 0) || !std::isfinite(camera_fps))
+    throw std::invalid_argument("group timing: camera_fps " + std::to_string(camera_fps) +
+                                " must be a positive frame rate");
+  if (settle_frames < 0)
+    throw std::invalid_argument("group timing: settle_frames " + std::to_string(settle_frames) +
+                                " must not be negative");
+  return pattern_frames * (1.0 + settle_frames) / camera_fps;
 }
 
 TimingPlan planTimingGroups(const std::vector<PairGeometry>& pairs,

@@ -8,6 +8,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
+#include <std_srvs/Trigger.h>
 
 #include <cmath>
 #include <map>
@@ -36,7 +37,16 @@ class MergeNode : public testing::Test {
     for (int i = 0; i < 100 && report_sub_.getNumPublishers() == 0; ++i)
       ros::WallDuration(0.1).sleep();
     ASSERT_GT(report_sub_.getNumPublishers(), 0u) << "merge is not publishing scan_report";
-    ros::WallDuration(0.5).sleep();  // the merge node's subscriptions connect
+    // What the ScanCoordinator asks before a scan: are the merge's subscriptions connected?
+    ASSERT_TRUE(ros::service::waitForService("/body_scan/merge/inputs_connected", 30000));
+    std_srvs::Trigger inputs;
+    for (const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30);
+         ros::WallTime::now() < deadline; ros::WallDuration(0.05).sleep())
+      if (ros::service::call("/body_scan/merge/inputs_connected", inputs) &&
+          inputs.response.success)
+        break;
+    ASSERT_TRUE(inputs.response.success) << inputs.response.message;
+    EXPECT_EQ(inputs.response.message, "every running pair's scan_points is connected");
   }
 
   void capture(const std::string& pair, uint32_t scan_id) {

@@ -27,13 +27,14 @@ std::string fileStem(std::string id) {
 }
 
 // Runs the CLI; returns its exit code and the report (null when none was written).
-std::pair<int, YAML::Node> plan(const fs::path& dir, const std::string& suffix) {
+std::pair<int, YAML::Node> plan(const fs::path& dir, const std::string& suffix,
+                                const std::string& options = "") {
   const fs::path report = dir / "plan.yaml";
   fs::remove(report);
   const std::string command = std::string(PLAN_TIMING_GROUPS) + " --calibration-dir " +
                               dir.string() + " --suffix '" + suffix + "' --rig " + kRig +
-                              " --report " + report.string() + " > " + (dir / "out.txt").string() +
-                              " 2>&1";
+                              " --report " + report.string() + " " + options + " > " +
+                              (dir / "out.txt").string() + " 2>&1";
   const int status = std::system(command.c_str());
   return {WEXITSTATUS(status), fs::exists(report) ? YAML::LoadFile(report.string()) : YAML::Node()};
 }
@@ -62,6 +63,13 @@ TEST(PlanTimingGroups, ReportsTheLibrarysPlanWithPosesFromAlignmentOrRig) {
   EXPECT_DOUBLE_EQ(report["simulated_acquisition_seconds"].as<double>(),
                    0.5 * expected.groups.size());
   EXPECT_EQ(report["conflicts"].size(), expected.conflicts.size());
+  // The group period from the hardware: 18 pattern frames, each kept after 2 settle frames of
+  // a 30 Hz camera (the usb pair's defaults), 1.8 s.
+  const auto [usb_status, usb_report] = plan(dir, "_factory", "--camera-fps 30 --settle-frames 2");
+  ASSERT_EQ(usb_status, 0);
+  EXPECT_DOUBLE_EQ(usb_report["group_seconds"].as<double>(), 1.8);
+  EXPECT_DOUBLE_EQ(usb_report["simulated_acquisition_seconds"].as<double>(),
+                   1.8 * expected.groups.size());
   std::cout << "[ figure ] default rig (plan_timing_groups): " << expected.groups.size()
             << " groups, " << 0.5 * expected.groups.size() << " s, " << expected.conflicts.size()
             << " conflicts\n";

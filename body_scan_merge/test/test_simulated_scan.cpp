@@ -1,7 +1,7 @@
 // The simulated full scan of the default rig at core level (every pair rendered by its timing
 // group, decoded, triangulated with the factory calibration, merged as the Merge nodelet does)
-// against the
-// true surface (eval::evaluateScan): issue 4's targets, and what interference does.
+// against the true surface (eval::evaluateScan): the whole-body accuracy targets, and what
+// interference does.
 #include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/rig.h>
 #include <body_scan_merge/eval/scan_accuracy.h>

@@ -141,6 +141,45 @@ TEST(TimingGroups, PairsFacingEachOtherDoNotConflictPairsSideBySideDo) {
   EXPECT_EQ(plan.groups[0], (std::vector<std::string>{"front", "back"}));
 }
 
+// Thesis sec. 4.2.4: 0.5 s per group; the period follows the pattern and the camera.
+TEST(TimingGroups, TheGroupPeriodIsThePatternFramesAtTheCameraRate) {
+  EXPECT_DOUBLE_EQ(GroupTiming{}.seconds(), 0.5);
+  EXPECT_DOUBLE_EQ((GroupTiming{18, 30, 2}.seconds()), 1.8);  // usb pair: 30 Hz, 2 settle frames
+  EXPECT_DOUBLE_EQ((GroupTiming{10, 30, 0}.seconds()), 1.0 / 3);  // 8 bits, no inverse frames
+  for (const GroupTiming bad : {GroupTiming{0, 30, 0}, GroupTiming{18, 0, 0},
+                                GroupTiming{18, std::nan(""), 0}, GroupTiming{18, 30, -1}}) {
+    try {
+      bad.seconds();
+      ADD_FAILURE() << "accepted " << bad.pattern_frames << " " << bad.camera_fps << " "
+                    << bad.settle_frames;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("must"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// The top of the head: two pairs facing each other above the subject both light and see it
+// (the sides each sees are the other's shadow side); at eye level neither sees the top.
+TEST(TimingGroups, PairsLookingDownShareTheTopOfTheHead) {
+  InterferenceProxy head;
+  head.parts = {{0, 0, 0.10, 0.09, 1.45, 1.95}};
+  head.floor_radius = 0;
+  auto facing = [&](double height, double pitch_deg) {
+    std::vector<PairGeometry> pairs =
+        geometryOf({pairAt("front", {1.0, 0, height}), pairAt("back", {-1.0, 0, height})});
+    pairs[0].world_from_camera =
+        body_scan_driver::sim::cameraPose({1.0, 0, height}, M_PI, pitch_deg * M_PI / 180);
+    pairs[1].world_from_camera =
+        body_scan_driver::sim::cameraPose({-1.0, 0, height}, 0, pitch_deg * M_PI / 180);
+    return lightConflicts(pairs, head);
+  };
+  const auto above = facing(2.6, 35), level = facing(1.7, 0);
+  EXPECT_TRUE(above[0][1]);
+  EXPECT_TRUE(above[1][0]);
+  EXPECT_FALSE(level[0][1]);
+  EXPECT_FALSE(level[1][0]);
+}
+
 TEST(TimingGroups, TheColouringIsMinimal) {
   std::mt19937 generator(5);
   for (int trial = 0; trial < 60; ++trial) {

@@ -8,6 +8,8 @@ import unittest
 
 import rospy
 import rostest
+
+from test_record_replay import wait_until  # same directory
 from body_scan_msgs.msg import ScanReport
 from body_scan_msgs.srv import Scan
 from rosgraph_msgs.msg import Log
@@ -34,8 +36,7 @@ class Events:
             self.cond.notify_all()
 
     def wait(self, predicate, timeout):
-        with self.cond:
-            return self.cond.wait_for(predicate, timeout)
+        return wait_until(self.cond, predicate, timeout)
 
     def log_with(self, level, *words):
         return [l for l in self.logs if l.level == level and all(w in l.msg for w in words)]

@@ -1,7 +1,8 @@
 // full_scanner.launch headless: one /body_scan/capture gives one merged cloud of the default
 // subject with every pair present, 500 000 to 1 000 000 points, all in the scan volume of the
 // world frame, and a scan report that accounts for them; the cloud's accuracy against the
-// simulator's true surface (evaluation only) meets issue 4's targets, written as a YAML report.
+// simulator's true surface (evaluation only) meets the whole-body accuracy targets, written as a
+// YAML report.
 #include <body_scan_merge/eval/scan_accuracy.h>
 #include <body_scan_msgs/Scan.h>
 #include <body_scan_msgs/ScanReport.h>

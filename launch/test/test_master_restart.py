@@ -18,6 +18,8 @@ import unittest
 import rosgraph
 import rostest
 
+from test_record_replay import wait_until  # same directory
+
 POLES = ("pole_a", "pole_b", "pole_c")
 PAIRS = [f"{pole}/pair_{i}" for pole in POLES for i in range(1, 5)]
 
@@ -83,15 +85,13 @@ class MasterRestart(unittest.TestCase):
 
         sub = rospy.Subscriber("/body_scan/scan_report", ScanReport, on_report, queue_size=10)
         rospy.wait_for_service("/body_scan/capture", timeout=180)
-        with cond:
-            self.assertTrue(cond.wait_for(lambda: sub.get_num_connections() > 0, 60))
+        self.assertTrue(wait_until(cond, lambda: sub.get_num_connections() > 0, 60))
         persistent = rospy.ServiceProxy("/body_scan/capture", Scan, persistent=True)
 
         def scan(proxy, label):
             response = proxy(0)
             sid = response.scan_id
-            with cond:
-                self.assertTrue(cond.wait_for(lambda: sid in reports, 60), f"{label}: no report")
+            self.assertTrue(wait_until(cond, lambda: sid in reports, 60), f"{label}: no report")
             report = reports[sid]
             print(f"[ figure ] {label}: scan {sid}, {len(report.pairs_present)} pairs, "
                   f"missing {list(report.pairs_missing)}")

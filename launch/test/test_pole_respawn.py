@@ -13,6 +13,8 @@ import xmlrpc.client
 import rosgraph
 import rospy
 import rostest
+
+from test_record_replay import wait_until  # same directory
 from body_scan_msgs.msg import PairCloud, ScanReport
 from body_scan_msgs.srv import Scan
 
@@ -41,8 +43,7 @@ class Events:
             self.cond.notify_all()
 
     def wait(self, predicate, timeout):
-        with self.cond:
-            return self.cond.wait_for(predicate, timeout)
+        return wait_until(self.cond, predicate, timeout)
 
 
 def node_pid(name):

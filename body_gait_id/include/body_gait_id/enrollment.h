@@ -19,7 +19,8 @@ std::vector<PoseRecord> trainingPoses(const body_gait_model::RepresentativePoses
 // A walk's body measured robustly (beyond eq 5.13's mean): every pose's r and body shape
 // replaced by the component-wise median over the four fits (median of 4 = mean of the middle
 // two), so the cycle's mean of the four is that median and one bad fit of a segment cannot
-// pull it. Joint angles and p stay. Cross-walk, 50 people: rank-1 up 2-5 points (README).
+// pull it. Joint angles and p stay. Cross-walk, 50 people: rank-1 up 2-5 points
+// (docs/RESULTS.md).
 body_gait_model::RepresentativePoses withMedianBody(const body_gait_model::RepresentativePoses& s);
 
 // Four models as s1..s4; throws std::invalid_argument naming the count when it is not 4.

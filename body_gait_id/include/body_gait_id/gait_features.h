@@ -49,8 +49,8 @@ constexpr int kStaticSize = body_gait_model::kSegmentCount;
 // than its lengths), [1] shoulder and [2] hip half widths, [3..23] the distinct segment radii
 // (upper torso proximal and distal, lower torso distal, neck, head, each limb's proximal and
 // distal). Why: cross-walk, the radii and the height vary 3-10x less between a person's walks
-// than between people, the limbs' lengths only 1.5-2.5x (README, "Gait recognition
-// evaluation").
+// than between people, the limbs' lengths only 1.5-2.5x
+// (`evaluate_gait_id --measure-noise`).
 constexpr int kShapeSize = 24;
 Eigen::VectorXd bodyShapeFeatures(const body_gait_model::BodyModel& model);
 

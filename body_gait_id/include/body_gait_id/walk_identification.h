@@ -2,7 +2,7 @@
 // fitted representative poses s1..s4 (the testing set eta3, eqs 5.11-5.13) is identified frame
 // by frame against the gallery (eq 5.16), and each subject's walk score is the mean over the 20
 // frames of its nearest pose's distance: one decision per walk, which separates people far
-// better than one scan (README, "Gait recognition evaluation").
+// better than one scan (docs/RESULTS.md, "Recognition").
 #pragma once
 
 #include <body_gait_id/matcher.h>

@@ -1,24 +1,6 @@
-// gait_id_node: the ROS face of the gait gallery (thesis 5.7-5.8). Thin: the work is
-// body_gait_id's core (GalleryDatabase, trainingPoses, Matcher).
-//
-//   services  ~enroll (EnrollSubject), ~identify (Identify), ~remove (RemoveSubject),
-//             ~list (ListSubjects)
-//   topics    /body_gait/model (BodyModel) in -> /body_gait/identity (Identity) out: every model
-//             as a scan (kind SCAN), and a walk's 4 models (same walk_id, pose_index 1..4) once
-//             all are in as a walk (kind WALK: its gait cycle against the gallery,
-//             walk_identification.h)
-//   params    ~database (default $ROS_HOME/gait_gallery.db), ~feature_set (dynamic_static |
-//             dynamic), ~view (3d | frontal | side), ~accept_threshold (score, eq 5.16, at or
-//             below which a match is accepted; default 4.5: the equal-error threshold of 3D
-//             dynamic + static features, cross-walk, fitted models (README); calibrate it for
-//             other features or noise weights with evaluate_gait_id),
-//             ~busy_timeout (s, waiting for another writer), ~feature_noise (a feature noise
-//             file, feature_noise_file.h: weighs each 3D component by its between / within-
-//             subject SD; empty = eq 5.16 unweighted), ~walk_body (mean | median: a walk's body
-//             measures at enrolment, eq 5.13's mean or the median of the four fits; also
-//             applied to an identified walk), ~walk_accept_threshold (a walk's score at or below
-//             which it is accepted; default 15.5: FPIR 0 % at FNIR 5 % for walks with the
-//             recognition.launch features, README), ~ranks (5: subjects listed, best first)
+// gait_id_node: the ROS face of the gait gallery (thesis 5.7-5.8); its topics, services and
+// parameters are in body_gait_id/README.md. Thin: the work is body_gait_id's core
+// (GalleryDatabase, trainingPoses, Matcher).
 //
 // A database that cannot be opened (corrupt, locked, newer schema) is reported once at start
 // and in every service reply; the node keeps running and tries the file again on the next
@@ -46,7 +28,7 @@ namespace body_gait_id {
 // --subjects 20 --scanner sampler: eer_threshold 4.53, EER 11.8 %).
 constexpr double kDefaultAcceptThreshold = 4.5;
 // Open-set threshold of a walk's mean score with the recognition.launch defaults (dynamic +
-// static + shape, noise weights, median body): FPIR 0 % at FNIR 5 % (README).
+// static + shape, noise weights, median body): FPIR 0 % at FNIR 5 % (docs/RESULTS.md).
 constexpr double kDefaultWalkAcceptThreshold = 15.5;
 
 class GaitIdNode {

@@ -1,5 +1,5 @@
 // Enrols simulated people into a gallery database and writes a scene file of one of them on
-// another walk: what `make demo` scans live and identifies (issue 6). Each person's four
+// another walk: what `make demo` scans live and identifies. Each person's four
 // representative poses (thesis 5.3) of walk --trial are scanned and fitted (fitWalks: the full
 // scanner simulation by default, through the fit cache), then enrolled as the eta1 and eta2
 // training cycles (5.8.3). The scene file holds the floor and the person's body as a `human`

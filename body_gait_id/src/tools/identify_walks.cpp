@@ -1,4 +1,4 @@
-// Cross-walk identification of people from their fitted walks (issue 7; eval/cross_walk.h):
+// Cross-walk identification of people from their fitted walks (eval/cross_walk.h):
 //
 //   identify_walks [--out report.yaml] WALK_MODELS.yaml [...]
 //

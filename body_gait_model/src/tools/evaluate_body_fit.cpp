@@ -34,7 +34,7 @@
 // (body_scan_driver/sim/mesh_human.h: a person of the subject's stature, sex and build) instead of
 // the ellipsoids; the truth is the mesh's skeleton.
 //
-// Motion-capture subjects (issue 7): --bvh [PERSON=]WALK.bvh,... replaces the simulated subjects
+// Motion-capture subjects: --bvh [PERSON=]WALK.bvh,... replaces the simulated subjects
 // by real walks: in each walk the 4 poses of 5.3 are picked (body_scan_driver's pickGaitPoses),
 // the body is posed on those BVH frames and scanned with the full scanner; errors are against the
 // BVH joints. PERSON defaults to the file name up to its first '_' (CMU: 07_02.bvh -> 07).

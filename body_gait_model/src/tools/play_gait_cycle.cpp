@@ -1,17 +1,7 @@
 // Plays a reconstructed gait cycle (thesis 5.6, 5.8.2) so rviz animates it. Fits nothing: the 4
 // representative poses come from a YAML file (gait_poses_file.h) or from a simulated walking
 // person read off the simulator's skeleton (modelFromSkeleton; evaluation library).
-//
-// Parameters: ~poses_file (YAML s1..s4; empty = simulate), ~person (index into
-// simulatedPeople), ~seed, ~trial, ~heading (rad) for the simulated walk; ~gait_set (eta1,
-// eta2, eta3 = the poses as given; 5.8.3); ~frame_rate (Hz); ~cycles (cycles walked on before
-// playing from the start again); ~save_poses_file (write the 4 poses used, e.g. to edit them);
-// ~world_frame, ~link_prefix (as the body fitter); ~filmstrip_spacing (m between the frames of
-// the filmstrip; 0 = none), ~filmstrip_left (m to the walker's left).
-// Out: body_gait/gait_sequence (GaitSequence, latched, once), body_gait/gait_sequence_markers
-// (all 20 frames in a row, like thesis Fig 5.6; latched), body_gait/model (BodyModel) and
-// body_gait/markers per frame, body_gait/joint_states, TF world -> <link_prefix>*, and the URDF
-// on robot_description (the RobotModel display of body_model.rviz).
+// Topics and parameters: body_gait_model/README.md.
 #include <body_gait_model/eval/gait_subjects.h>
 #include <body_gait_model/eval/skeleton_model.h>
 #include <body_gait_model/gait_cycle.h>

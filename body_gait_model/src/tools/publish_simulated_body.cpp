@@ -1,7 +1,6 @@
 // Publishes a simulated whole-body cloud (body_cloud_sampler: thesis-like rig, gait pose of
 // 5.3) on body_scan/cloud in the world frame, latched and repeated every ~period seconds: the
-// body fitter's demo input. Parameters: ~subject (index into simulatedSubjects), ~pose (1..4),
-// ~heading (rad), ~period (s; 0 = once).
+// body fitter's demo input. Parameters: body_gait_model/README.md.
 #include <body_gait_model/eval/body_cloud_sampler.h>
 #include <body_gait_model/ros/body_model_msg.h>
 #include <ros/ros.h>

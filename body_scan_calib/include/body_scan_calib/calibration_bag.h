@@ -1,4 +1,4 @@
-// Calibration captures recorded in a bag (issue 3 item 7): body_scan_msgs/PatternSet messages
+// Calibration captures recorded in a bag: body_scan_msgs/PatternSet messages
 // of one pair, converted to the image folder calibrate_pair reads (calibration_capture.h).
 // The ROS layer of the workflow (rosbag C++ API); the calibration itself stays ROS-agnostic.
 #pragma once
@@ -18,7 +18,7 @@ struct CalibrationBagError : std::runtime_error {
 };
 
 // The pattern frames of a set as 8-bit grey images (copies). Throws CalibrationBagError naming
-// the scan and the problem (not mono8, sizes differ, frame count not that of bits/inverses).
+// the scan and the field checkPatternSet (body_scan_driver/ros/message_checks.h) rejects.
 std::vector<cv::Mat> patternFrames(const body_scan_msgs::PatternSet& set);
 
 struct BagConversionOptions {

@@ -1,4 +1,4 @@
-// The capture side of the calibration workflow (issue 3 item 7): the targets of the rig
+// The capture side of the calibration workflow: the targets of the rig
 // (calibration_rig.h) as scene files for the simulated pair's ~set_scene service, averaging of
 // repeated captures of a static target, and the image-folder layout calibrate_pair reads:
 //   FOLDER/pose_NN/frame_MM.png    one folder per reference-plane pose (>= 3)

@@ -22,6 +22,7 @@
 #include <map>
 #include <new>
 #include <string>
+#include <vector>
 
 namespace body_scan_driver::fuzz {
 
@@ -115,6 +116,25 @@ inline std::map<std::string, size_t> replayCorpus(const std::string& corpus_root
     }
   }
   return runs;
+}
+
+// The seeds of corpus_root/<target>/ that are not one whole serialized `Message` (deserialized,
+// no byte left over). A message seed made before the message changed no longer deserializes:
+// the target rejects it at once and its replay tests nothing.
+template <typename Message>
+std::vector<std::string> staleMessageSeeds(const std::string& corpus_root, const char* target) {
+  std::vector<std::string> stale;
+  const std::filesystem::path folder = std::filesystem::path(corpus_root) / target;
+  if (!std::filesystem::is_directory(folder)) return {folder.string() + " (missing)"};
+  for (const auto& file : std::filesystem::directory_iterator(folder)) {
+    std::ifstream in(file.path(), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    Message message;
+    if (!deserialize(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), message) ||
+        ros::serialization::serializationLength(message) != bytes.size())
+      stale.push_back(file.path().filename().string());
+  }
+  return stale;
 }
 
 }  // namespace body_scan_driver::fuzz

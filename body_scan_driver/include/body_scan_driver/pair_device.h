@@ -19,7 +19,7 @@ struct PatternCapture {
   cv::Mat texture;              // CV_8UC3 RGB
 };
 
-// Health of a device for /diagnostics (issue 8): what it is, its connection state, and why.
+// Health of a device for /diagnostics: what it is, its connection state, and why.
 struct DeviceStatus {
   enum class Level { kOk, kWarn, kError };
   Level level = Level::kOk;

@@ -1,4 +1,4 @@
-// backend:=usb: a real pair (README "Setting up a real pair"): its device ids from the pair's
+// backend:=usb: a real pair (docs/REAL_RIG.md): its device ids from the pair's
 // `device:` map in ~rig_file, overridden by private parameters; its own poll timer (reconnects,
 // hot-plug) and dynamic_reconfigure server (exposure, gain, settle frames).
 #include <body_scan_driver/UsbPairSettingsConfig.h>

@@ -1,4 +1,4 @@
-// The projector output path under a headless X server (issue 8, must show): Xvfb is started by
+// The projector output path under a headless X server: Xvfb is started by
 // the test on a free display number, ProjectorWindow shows every Gray code
 // pattern frame full-screen, the test grabs the X screen (XGetImage) after each and decodes
 // the grabs with the project's decoder: every pixel must decode to the stripe the projector

@@ -1,6 +1,6 @@
 // Timing groups of a calibrated rig (thesis 4.3, Fig 4.7): pairs whose light reaches another
 // pair's view must not project at the same time, so the ScanCoordinator triggers the rig in
-// groups; as few groups as possible keeps the acquisition short (groups x 0.5 s).
+// groups; as few groups as possible keeps the acquisition short (groups x GroupTiming).
 // ROS-agnostic: from each pair's calibration (camera + stripe planes) and world pose.
 #pragma once
 
@@ -27,7 +27,7 @@ struct ProxyCylinder {
 };
 
 // The surfaces the light can fall on: a proxy of a subject standing at the origin facing +x
-// (DESIGN.md section 3), sampled every `spacing`. A point counts as lit (seen) when it faces
+// (DESIGN.md section 3), sampled every `spacing` on its sides and tops. A point counts as lit (seen) when it faces
 // the projector (camera), lies in its sweep (image) and no other part is in between; light
 // reaching the inner side of an arm or leg through a gap counts. Default: an adult envelope
 // (torso, arms held a little away, legs, head), larger than most subjects, and the floor around
@@ -60,10 +60,26 @@ struct TimingPlan {
 std::vector<std::vector<bool>> lightConflicts(const std::vector<PairGeometry>& pairs,
                                               const InterferenceProxy& proxy = {});
 
+// The fraction of the proxy's body surface (its parts, not the floor) that at least one pair
+// both lights and sees (the lit-and-seen tests of lightConflicts): a coarse coverage figure for
+// comparing rig layouts before simulating them (eval/rig_design.h).
+double proxyCoverage(const std::vector<PairGeometry>& pairs, const InterferenceProxy& proxy = {});
+
 // A minimum colouring of the undirected conflict graph (exact), the most balanced one among
 // the minimum colourings (least sum of squared group sizes). Deterministic: pairs keep their
 // input order inside a group and groups are ordered by their first pair.
 std::vector<std::vector<int>> minimumGroups(const std::vector<std::vector<bool>>& conflicts);
+
+// How long one timing group takes on the hardware (thesis sec. 4.2.4: 0.5 s): the pairs of a
+// group show their pattern frames together, each frame held for its camera frame plus the
+// `settle_frames` the sequencer discards after a pattern change (hw/pattern_sequencer.h).
+struct GroupTiming {
+  int pattern_frames = 18;  // PatternLayout::frameCount(): 8 bits with inverse frames
+  double camera_fps = 36;   // the thesis's 18 frames in 0.5 s
+  int settle_frames = 0;    // a synchronized projector needs none
+  // Throws std::invalid_argument naming the bad value.
+  double seconds() const;
+};
 
 TimingPlan planTimingGroups(const std::vector<PairGeometry>& pairs,
                             const InterferenceProxy& proxy = {});

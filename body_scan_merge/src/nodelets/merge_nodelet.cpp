@@ -1,6 +1,9 @@
 // Merge: the pair clouds of one scan id (/<pair>/scan_points) -> /body_scan/cloud (world frame,
 // cropped to the scan volume, optional voxel grid and outlier removal) + /body_scan/scan_report.
 // A pair that never answers is reported after ~timeout and the scan is assembled without it.
+// ~inputs_connected (std_srvs/Trigger) says whether every running pair's scan_points is connected
+// yet: ROS drops a message published before the subscriber's connection is made, so the
+// ScanCoordinator asks before it triggers a scan.
 #include <body_scan_driver/ros/conversions.h>
 #include <body_scan_driver/ros/message_checks.h>
 #include <body_scan_merge/cloud_merge.h>
@@ -12,6 +15,7 @@
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -61,6 +65,7 @@ class MergeNodelet : public nodelet::Nodelet {
       subscribers_.push_back(
           nh.subscribe<body_scan_msgs::PairCloud>(ros::names::append(root, pair + "/scan_points"),
                                                   2, [this](const Part& part) { onPart(part); }));
+    inputs_srv_ = pnh.advertiseService("inputs_connected", &MergeNodelet::onInputsConnected, this);
     groups_sub_ = nh.subscribe<body_scan_msgs::TimingGroups>(
         "timing_groups", 1, [this](const body_scan_msgs::TimingGroupsConstPtr& groups) {
           if (const auto problem = body_scan_driver::checkTimingGroups(*groups)) {
@@ -84,6 +89,28 @@ class MergeNodelet : public nodelet::Nodelet {
         "merging scans of %zu pairs into %s (frame %s), pair timeout %.1f s, voxel %.4f m%s",
         pairs.size(), cloud_pub_.getTopic().c_str(), world_frame_.c_str(), timeout,
         options_.voxel_leaf, options_.outlier_removal ? ", outlier removal" : "");
+  }
+
+  // Ready when every pair cloud topic that has a publisher registered is connected here: a pair
+  // whose Triangulate is down is not waited for (Merge reports it missing). Connected means a
+  // link to the Triangulate exists; its connection header follows within milliseconds, long
+  // before that pair's capture can produce a cloud.
+  bool onInputsConnected(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
+    ros::master::V_TopicInfo published;
+    const bool master_answered = ros::master::getTopics(published);
+    std::string waiting, absent;
+    for (const ros::Subscriber& subscriber : subscribers_) {
+      if (subscriber.getNumPublishers() > 0) continue;
+      const bool registered = std::any_of(
+          published.begin(), published.end(),
+          [&](const ros::master::TopicInfo& t) { return t.name == subscriber.getTopic(); });
+      (registered || !master_answered ? waiting : absent) += " " + subscriber.getTopic();
+    }
+    response.success = waiting.empty();
+    response.message = response.success ? "every running pair's scan_points is connected"
+                                        : "connecting to:" + waiting;
+    if (!absent.empty()) response.message += "; no publisher (pair not running):" + absent;
+    return true;
   }
 
   // A cloud that fails checkPairCloud never reaches the assembler; no exception leaves a
@@ -232,6 +259,7 @@ class MergeNodelet : public nodelet::Nodelet {
   ros::Publisher cloud_pub_, report_pub_;
   std::vector<ros::Subscriber> subscribers_;
   ros::Subscriber groups_sub_;
+  ros::ServiceServer inputs_srv_;
   ros::WallTimer timer_;
   std::shared_ptr<MasterWatch> master_watch_;
 };

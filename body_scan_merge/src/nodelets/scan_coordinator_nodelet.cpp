@@ -6,6 +6,9 @@
 // the ~rig_file poses (timing_groups.h), or ~groups. A pair whose calibration or pose is still
 // missing after ~plan_wait gets a group of its own (it conflicts with nobody else's slot) and is
 // named.
+// Before each scan it asks the Merge named by ~merge (its ~inputs_connected service) whether every
+// pair's cloud topic is connected, and waits for that up to ~inputs_timeout: a cloud published
+// before Merge has connected is lost, which happens to the first scan after a launch.
 //
 // Walk sessions: /body_scan/capture_walk (CaptureWalk.srv) scans the 4 representative poses of
 // thesis 5.3 in turn. Before each pose it prompts the operator on /body_scan/walk_progress
@@ -14,6 +17,7 @@
 // (at most ~walk_trigger_timeout). Every pair's capture is stamped with the walk id and the pose
 // index (Capture.srv), which travel with the pattern sets to the scan report and the models.
 #include <body_scan_driver/calibration_file.h>
+#include <body_scan_driver/gray_code.h>
 #include <body_scan_driver/rig_layout.h>
 #include <body_scan_merge/timing_groups.h>
 #include <body_scan_msgs/Capture.h>
@@ -24,11 +28,13 @@
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <std_msgs/Empty.h>
+#include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <condition_variable>
 #include <map>
 #include <memory>
@@ -43,6 +49,28 @@
 
 namespace body_scan_merge {
 
+// ~group_seconds when given, else the pairs' pattern frames at the camera's frame rate
+// (GroupTiming; the defaults give the thesis's 0.5 s).
+double groupSeconds(ros::NodeHandle& pnh) {
+  double seconds = 0;
+  if (pnh.getParam("group_seconds", seconds)) {
+    if (std::isfinite(seconds) && seconds > 0) return seconds;
+    ROS_ERROR("~group_seconds %.3f must be positive; timing it from the pattern instead", seconds);
+  }
+  GroupTiming timing;
+  const int bits = pnh.param("pattern_bits", 8);
+  const bool inverse = pnh.param("inverse_frames", true);
+  timing.camera_fps = pnh.param("camera_fps", timing.camera_fps);
+  timing.settle_frames = pnh.param("settle_frames", timing.settle_frames);
+  try {
+    timing.pattern_frames = body_scan_driver::PatternLayout(bits, inverse).frameCount();
+    return timing.seconds();
+  } catch (const std::exception& e) {
+    ROS_ERROR("timing group period: %s; using the thesis's 0.5 s", e.what());
+    return 0.5;
+  }
+}
+
 class ScanCoordinatorNodelet : public nodelet::Nodelet {
  private:
   void onInit() override {
@@ -56,11 +84,13 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     calibration_dir_ = pnh.param<std::string>("calibration_dir", "");
     calibration_suffix_ = pnh.param<std::string>("calibration_suffix", "_factory");
     world_frame_ = pnh.param<std::string>("world_frame", "world");
-    group_seconds_ = pnh.param("group_seconds", 0.5);
+    group_seconds_ = groupSeconds(pnh);
     pair_timeout_ = pnh.param("pair_timeout", 10.0);
     all_at_once_ = pnh.param("all_at_once", false);
     plan_wait_ = pnh.param("plan_wait", 30.0);
     rig_file_ = pnh.param<std::string>("rig_file", "");
+    merge_ = pnh.param<std::string>("merge", "");
+    inputs_timeout_ = pnh.param("inputs_timeout", 10.0);
     proxy_.spacing = pnh.param("proxy_spacing", proxy_.spacing);
     proxy_.image_margin = pnh.param("image_margin", proxy_.image_margin);
     proxy_.min_overlap_area = pnh.param("min_overlap_area", proxy_.min_overlap_area);
@@ -324,6 +354,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
         return;
       }
     }
+    waitForMergeInputs();
     next_scan_id_ = scan_id != 0 ? scan_id : next_scan_id_ + 1;
     response.scan_id = next_scan_id_;
     const ros::WallTime start = ros::WallTime::now();
@@ -348,6 +379,33 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
       NODELET_WARN("%s", response.message.c_str());
   }
 
+  // Returns once the Merge hears every pair, or after ~inputs_timeout with a warning naming the
+  // topics it does not hear (their clouds will be missing from the scan).
+  void waitForMergeInputs() {
+    if (merge_.empty()) return;
+    const std::string service = getNodeHandle().resolveName(merge_ + "/inputs_connected");
+    std_srvs::Trigger check;
+    const ros::WallTime start = ros::WallTime::now();
+    for (const ros::WallTime deadline = start + ros::WallDuration(inputs_timeout_);;
+         ros::WallDuration(0.05).sleep()) {
+      if (persistentClient<std_srvs::Trigger>(service).call(check) && check.response.success) {
+        const double waited = (ros::WallTime::now() - start).toSec();
+        if (waited > 0.01)
+          NODELET_INFO("the merge heard every running pair after %.2f s: %s", waited,
+                       check.response.message.c_str());
+        return;
+      }
+      if (ros::WallTime::now() >= deadline || !ros::ok()) break;
+    }
+    NODELET_WARN("scanning although the merge is not ready after ~inputs_timeout (%.1f s): %s",
+                 inputs_timeout_,
+                 check.response.message.empty()
+                     ? (service + " does not answer (is the merge running? set ~merge to \"\" "
+                                  "when there is none)")
+                           .c_str()
+                     : check.response.message.c_str());
+  }
+
   // Triggers every pair of the group at once and waits for all (at most pair_timeout).
   void captureGroup(const std::vector<std::string>& group, uint32_t scan_id, uint32_t walk_id,
                     uint8_t pose_index, std::vector<std::string>& missing) {
@@ -369,7 +427,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
         for (const std::string& other : group)
           if (other != id) capture.request.active_pairs.push_back(other);
         const std::string service = ros::names::append(root_, id + "/driver/capture");
-        ros::ServiceClient client = pairClient(service);
+        ros::ServiceClient client = persistentClient<body_scan_msgs::Capture>(service);
         std::string error;
         // A driver may still be coming up: wait for its service as long as for its answer.
         if (!client.isValid() &&
@@ -398,13 +456,14 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
       if (!call->answered.count(id) || call->failed.count(id)) missing.push_back(id);
   }
 
-  // A persistent connection per pair: captures need no master once connected (a restarted
+  // A persistent connection per service: captures need no master once connected (a restarted
   // master knows no services until they register again); a dropped one is made again.
-  ros::ServiceClient pairClient(const std::string& service) {
+  template <class Service>
+  ros::ServiceClient persistentClient(const std::string& service) {
     std::lock_guard<std::mutex> lock(clients_mutex_);
     ros::ServiceClient& client = clients_[service];
     if (!client.isValid())
-      client = getNodeHandle().serviceClient<body_scan_msgs::Capture>(service, /*persistent=*/true);
+      client = getNodeHandle().serviceClient<Service>(service, /*persistent=*/true);
     return client;
   }
 
@@ -414,7 +473,8 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
   std::string calibration_dir_, calibration_suffix_, world_frame_, root_;
   double group_seconds_ = 0.5, pair_timeout_ = 10.0, plan_wait_ = 30.0;
   bool all_at_once_ = false;
-  std::string rig_file_;
+  std::string rig_file_, merge_;
+  double inputs_timeout_ = 10.0;
   std::optional<body_scan_driver::RigLayout> rig_;
   InterferenceProxy proxy_;
   TimingPlan plan_;

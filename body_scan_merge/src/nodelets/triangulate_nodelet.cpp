@@ -2,8 +2,8 @@
 // scan id, for Merge), points (the same PointCloud2 for rviz, when subscribed) + stripe_image.
 // Decoding and triangulation are body_scan_driver's core functions; this is the ROS wrapper.
 #include <body_scan_driver/calibration_file.h>
-#include <body_scan_driver/ros/conversions.h>
 #include <body_scan_driver/ros/message_checks.h>
+#include <body_scan_driver/ros/pattern_set_cloud.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
 #include <body_scan_msgs/PairCloud.h>
@@ -14,8 +14,6 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
 
-#include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <pluginlib/class_list_macros.hpp>
@@ -23,32 +21,17 @@
 #include "master_watch.h"
 
 namespace body_scan_merge {
-namespace {
-
-// A cv::Mat header over an image message's bytes (no copy); the image has passed checkImage.
-cv::Mat view(const sensor_msgs::Image& image, int type) {
-  return cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), type,
-                 const_cast<uint8_t*>(image.data.data()), image.step);
-}
-
-float packRgb(uint8_t r, uint8_t g, uint8_t b) {  // PCL's packed-float rgb field
-  const uint32_t packed = (static_cast<uint32_t>(r) << 16) | (static_cast<uint32_t>(g) << 8) | b;
-  float value;
-  std::memcpy(&value, &packed, sizeof value);
-  return value;
-}
-
-}  // namespace
-
 class TriangulateNodelet : public nodelet::Nodelet {
  private:
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     calibration_file_ = pnh.param<std::string>("calibration_file", "");
-    params_.subpixel = pnh.param("subpixel", true);
-    params_.min_contrast = pnh.param("min_contrast", params_.min_contrast);
-    params_.edge_contrast_ratio = pnh.param("edge_contrast_ratio", params_.edge_contrast_ratio);
+    body_scan_driver::DecoderParams params;
+    params.subpixel = pnh.param("subpixel", true);
+    params.min_contrast = pnh.param("min_contrast", params.min_contrast);
+    params.edge_contrast_ratio = pnh.param("edge_contrast_ratio", params.edge_contrast_ratio);
+    cloud_maker_ = body_scan_driver::PatternSetCloud(params);
     min_range_ = pnh.param("min_range", 0.2);
     max_range_ = pnh.param("max_range", 5.0);
     points_pub_ = nh.advertise<sensor_msgs::PointCloud2>("points", 2);
@@ -108,15 +91,7 @@ class TriangulateNodelet : public nodelet::Nodelet {
     const std::string& pair = set->pair_id;
     try {
       if (!ensureCalibration(pair)) return;
-      const ros::WallTime start = ros::WallTime::now();
-      std::vector<cv::Mat> frames;
-      for (const sensor_msgs::Image& frame : set->frames) frames.push_back(view(frame, CV_8UC1));
-      if (!decoder_ || decoder_->layout().bits() != set->bits ||
-          decoder_->layout().inverseFrames() != set->inverse_frames)
-        decoder_ = std::make_unique<body_scan_driver::StripeDecoder>(
-            body_scan_driver::PatternLayout(set->bits, set->inverse_frames), params_);
-      decoder_->decode(frames, stripes_);
-      publish(*set, frames[0].size(), start);
+      publish(*set);
     } catch (const std::exception& e) {
       NODELET_ERROR_THROTTLE(5.0, "[%s] scan %u not triangulated: %s", pair.c_str(), set->scan_id,
                              e.what());
@@ -126,8 +101,8 @@ class TriangulateNodelet : public nodelet::Nodelet {
     }
   }
 
-  void publish(const body_scan_msgs::PatternSet& set, const cv::Size& size,
-               const ros::WallTime& start) {
+  void publish(const body_scan_msgs::PatternSet& set) {
+    const ros::WallTime start = ros::WallTime::now();
     body_scan_msgs::PairCloudPtr pair_cloud(new body_scan_msgs::PairCloud);
     pair_cloud->header = set.header;
     pair_cloud->pair_id = set.pair_id;
@@ -136,28 +111,7 @@ class TriangulateNodelet : public nodelet::Nodelet {
     pair_cloud->pose_index = set.pose_index;
     sensor_msgs::PointCloud2* cloud = &pair_cloud->cloud;
     cloud->header = set.header;
-    body_scan_driver::layoutFloatCloud(*cloud, size.width, size.height, /*rgb=*/true);
-    cloud->is_dense = false;
-    float* points = reinterpret_cast<float*>(cloud->data.data());
-    const size_t valid = triangulator_->triangulate(stripes_.coordinate, points, 4);
-    // World alignment (eq 4.1): tf2 carries the rigid part world -> optical frame; the residual
-    // linear part L of H_a = [R L | t] is applied here, in the camera frame.
-    if (const auto& alignment = triangulator_->calibration().alignment) {
-      const Eigen::Matrix3f residual = alignment->residual_linear.cast<float>();
-      const size_t count = static_cast<size_t>(size.width) * size.height;
-      for (size_t i = 0; i < count; ++i) {
-        Eigen::Map<Eigen::Vector3f> point(points + 4 * i);
-        if (std::isfinite(point.z())) point = residual * point;
-      }
-    }
-    // Colour from the texture (checked: the frames' size), else white.
-    const bool coloured = !set.texture.data.empty();
-    const cv::Mat texture = coloured ? view(set.texture, CV_8UC3) : cv::Mat();
-    for (int v = 0; v < size.height; ++v)
-      for (int u = 0; u < size.width; ++u) {
-        const cv::Vec3b c = coloured ? texture.at<cv::Vec3b>(v, u) : cv::Vec3b(255, 255, 255);
-        points[4 * (static_cast<size_t>(v) * size.width + u) + 3] = packRgb(c[0], c[1], c[2]);
-      }
+    const size_t valid = cloud_maker_.triangulate(set, *triangulator_, *cloud);
     pair_cloud->processing_seconds = (ros::WallTime::now() - start).toSec();
     // Shared pointers: no copy to subscribers in this manager; rviz's copy only when watched.
     if (points_pub_.getNumSubscribers() > 0)
@@ -166,6 +120,8 @@ class TriangulateNodelet : public nodelet::Nodelet {
     NODELET_DEBUG("[%s] scan %u: %zu points", set.pair_id.c_str(), set.scan_id, valid);
 
     if (stripe_pub_.getNumSubscribers() > 0) {
+      const cv::Mat1f& coordinate = cloud_maker_.stripes().coordinate;
+      const cv::Size size = coordinate.size();
       sensor_msgs::ImagePtr image(new sensor_msgs::Image);
       image->header = set.header;
       image->height = size.height;
@@ -173,21 +129,19 @@ class TriangulateNodelet : public nodelet::Nodelet {
       image->encoding = sensor_msgs::image_encodings::TYPE_32FC1;
       image->step = static_cast<uint32_t>(size.width * sizeof(float));
       image->data.resize(static_cast<size_t>(image->step) * size.height);
-      cv::Mat(size, CV_32FC1, image->data.data()) = stripes_.coordinate * 1.f;
+      cv::Mat(size, CV_32FC1, image->data.data()) = coordinate * 1.f;
       stripe_pub_.publish(image);
     }
   }
 
   std::string calibration_file_;
-  body_scan_driver::DecoderParams params_;
   double min_range_ = 0.2, max_range_ = 5.0;
   std::unique_ptr<body_scan_driver::Triangulator> triangulator_;
   // The calibration file's modification time and size when loaded / when it failed to load.
   using FileStamp = std::pair<std::filesystem::file_time_type, std::uintmax_t>;
   FileStamp loaded_stamp_;
   std::optional<FileStamp> rejected_stamp_;
-  std::unique_ptr<body_scan_driver::StripeDecoder> decoder_;
-  body_scan_driver::StripeImage stripes_;
+  body_scan_driver::PatternSetCloud cloud_maker_;  // decode, triangulate, colour
   body_scan_driver::ProblemThrottle throttle_;
   ros::Publisher points_pub_, scan_points_pub_, stripe_pub_;
   ros::Subscriber pattern_sub_;

@@ -3,6 +3,7 @@
 // the rig file's pose), prints the groups and the conflicts and writes them as a YAML report.
 #include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/calibration_file.h>
+#include <body_scan_driver/gray_code.h>
 #include <body_scan_driver/rig_layout.h>
 #include <body_scan_driver/tools/command_line.h>
 #include <body_scan_merge/timing_groups.h>
@@ -33,7 +34,10 @@ int main(int argc, char** argv) {
       "the conflict graph).",
       "plan_timing_groups");
   std::string calibration_dir, suffix, rig_path, report;
-  double group_seconds = 0.5;
+  double group_seconds = 0;
+  int pattern_bits = 8;
+  bool inverse_frames = true;
+  GroupTiming timing;
   InterferenceProxy proxy;
   app.add_option("--calibration-dir", calibration_dir,
                  "pair calibrations <pole>_<pair><suffix>.yaml")
@@ -46,9 +50,22 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   app.add_option("--group-seconds", group_seconds,
-                 "acquisition time of one group (thesis sec. 4.2.4)")
+                 "acquisition time of one group (default: the pattern frames at the camera "
+                 "frame rate, 0.5 s for the thesis's 18 frames at 36 Hz)")
+      ->check(body_scan_driver::tools::positive());
+  app.add_option("--pattern-bits", pattern_bits, "Gray code bits of the pairs' pattern sets")
+      ->capture_default_str()
+      ->check(CLI::Range(body_scan_driver::kMinBits, body_scan_driver::kMaxBits));
+  app.add_option("--inverse-frames", inverse_frames, "pattern sets carry inverse frames")
+      ->capture_default_str();
+  app.add_option("--camera-fps", timing.camera_fps, "camera frame rate (Hz)")
       ->capture_default_str()
       ->check(body_scan_driver::tools::positive());
+  app.add_option("--settle-frames", timing.settle_frames,
+                 "camera frames discarded after each pattern change (the usb pair's "
+                 "settle_frames)")
+      ->capture_default_str()
+      ->check(body_scan_driver::tools::atLeast(0));
   app.add_option("--light-margin", proxy.light_margin,
                  "grow each sweep this many metres beyond its first and last calibrated stripe "
                  "planes")
@@ -62,6 +79,9 @@ int main(int argc, char** argv) {
   if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv))
     return *status;
   try {
+    timing.pattern_frames =
+        body_scan_driver::PatternLayout(pattern_bits, inverse_frames).frameCount();
+    if (group_seconds <= 0) group_seconds = timing.seconds();
     const body_scan_driver::RigLayout rig = body_scan_driver::loadRigLayout(rig_path);
     std::vector<PairGeometry> pairs;
     int aligned = 0;

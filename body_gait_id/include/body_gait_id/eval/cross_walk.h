@@ -1,4 +1,4 @@
-// Cross-walk identification (issue 7): people recorded walking more than once (e.g. motion
+// Cross-walk identification: people recorded walking more than once (e.g. motion
 // capture, several walks per person), one walk in the gallery and another as the probe, with the
 // thesis's protocol (5.8.3): the gallery holds each person's training cycles eta1 and eta2 (2 x 20
 // poses reconstructed from the 4 fitted representative poses, eqs 5.11-5.13), the probe walk's

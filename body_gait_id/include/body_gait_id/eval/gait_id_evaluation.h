@@ -27,7 +27,7 @@ struct PersonSource {
       spec;
 };
 
-// Motion-capture walks as the people (issue 7): items "[PERSON=]WALK.bvh" (PERSON defaults to
+// Motion-capture walks as the people: items "[PERSON=]WALK.bvh" (PERSON defaults to
 // the file name up to its first '_', CMU: 07_02.bvh -> 07), people in order of first appearance,
 // walk t of a person is trial t, its poses 1-4 the frames body_scan_driver's pickGaitPoses finds,
 // each turned to the protocol's heading. `picked` (optional) gets one line per walk with its
@@ -153,7 +153,7 @@ std::vector<NamedMetrics> crossWalkProtocol(const FittedWalks& walks,
 namespace body_gait_id::eval {
 
 // How steady a static body measure is across a person's walks, against how much it differs
-// between people (issue 6: cross-walk identification is limited by the fits' noise). A walk's
+// between people (cross-walk identification is limited by the fits' noise). A walk's
 // value is the mean over its four fitted poses (as r in eq 5.13); between_sd is the SD over
 // people of walk trial_a's value, within_sd the SD of one walk's value about the person's own
 // (RMS of (walk a - walk b) / sqrt 2). Fisher ratio = (between / within)^2.

@@ -1,4 +1,4 @@
-// Simulated people who differ as people do (issue 6, item 4): bodies drawn from anthropometric
+// Simulated people who differ as people do: bodies drawn from anthropometric
 // survey distributions, a personal way of walking, and walks that vary from trial to trial.
 // Tests and evaluation only. simulatedSubjects()/gaitPose() (body_cloud_sampler.h) stay as they
 // are: the body-fit figures are measured on them.

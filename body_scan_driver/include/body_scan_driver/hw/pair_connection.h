@@ -1,4 +1,4 @@
-// Connection state machine of one hardware pair (issue 8): DISCONNECTED -> CONNECTED ->
+// Connection state machine of one hardware pair: DISCONNECTED -> CONNECTED ->
 // STREAMING, any failure -> ERROR, and from ERROR a reconnect after a retry interval that
 // grows with every failed attempt (so a missing device costs little but is found quickly once
 // plugged in; a hot-plug arrival retries at once). Pure logic: the device is reached through

@@ -1,4 +1,4 @@
-// Projects a pattern set and captures it frame by frame (issue 8, item 3). The projector and
+// Projects a pattern set and captures it frame by frame. The projector and
 // the camera are not hardware-synchronized, so the sequencer counts camera frames: after
 // showing pattern frame k it discards `settle_frames` camera frames (the projector's display
 // latency plus the camera's exposure of the old pattern) and keeps the next one.

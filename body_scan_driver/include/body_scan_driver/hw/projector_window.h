@@ -1,5 +1,5 @@
 // The projector of a DIY pair is a display: a borderless full-screen X11 window on a
-// configured display and screen shows each pattern frame (issue 8, item 3). The window is
+// configured display and screen shows each pattern frame. The window is
 // override-redirect (no window manager decorations or placement) and hides the cursor.
 // X11 headers stay in the .cpp.
 #pragma once

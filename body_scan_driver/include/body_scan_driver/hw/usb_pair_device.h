@@ -1,4 +1,4 @@
-// A real projector-camera pair behind the PairDevice interface (issue 8): a UVC camera found
+// A real projector-camera pair behind the PairDevice interface: a UVC camera found
 // on USB by vendor:product/serial, a projector attached as an X display (optionally also
 // required on USB, for vendor projectors), the pattern sequencer between them, and the
 // connection state machine that keeps reconnecting. Construction never fails for a missing

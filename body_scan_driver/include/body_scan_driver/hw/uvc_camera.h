@@ -1,4 +1,4 @@
-// A UVC camera through libuvc (issue 8, item 2): opens the configured vendor:product/serial,
+// A UVC camera through libuvc: opens the configured vendor:product/serial,
 // streams at a chosen format and resolution, and keeps exposure and gain fixed (auto-exposure
 // off), since an exposure that adapts between pattern frames would corrupt every bit decision.
 // libuvc headers stay in the .cpp.

@@ -1,4 +1,4 @@
-// Accuracy of a whole-body scan against the simulator's true surface (issue 4): evaluation
+// Accuracy of a whole-body scan against the simulator's true surface: evaluation
 // only - it reads ground truth (the scene's body surfaces and skeleton), so nothing in the
 // scanning pipeline may use it. Library body_scan_merge_eval.
 #pragma once
