@@ -168,8 +168,12 @@ TEST_F(TriangulateNode, AppliesTheResidualLinearPartOfTheWorldAlignment) {
   ros::Subscriber subscriber = nh_.subscribe<sensor_msgs::PointCloud2>(
       "aligned/points", 1,
       [this](const sensor_msgs::PointCloud2::ConstPtr& cloud) { onCloud(cloud); });
-  for (int i = 0; i < 50 && publisher.getNumSubscribers() == 0; ++i) ros::WallDuration(0.1).sleep();
+  // Both links: Triangulate publishes its points only to a connected subscriber.
+  for (int i = 0;
+       i < 50 && (publisher.getNumSubscribers() == 0 || subscriber.getNumPublishers() == 0); ++i)
+    ros::WallDuration(0.1).sleep();
   ASSERT_GT(publisher.getNumSubscribers(), 0u) << "the aligned Triangulate did not subscribe";
+  ASSERT_GT(subscriber.getNumPublishers(), 0u) << "aligned/points is not connected";
   publisher_ = publisher;
   ASSERT_EQ(publishAndCount(*good_, 10.0), 1);
   std::lock_guard<std::mutex> lock(mutex_);
