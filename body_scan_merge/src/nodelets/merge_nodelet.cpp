@@ -97,10 +97,14 @@ class MergeNodelet : public nodelet::Nodelet {
   // before that pair's capture can produce a cloud.
   bool onInputsConnected(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
     ros::master::V_TopicInfo published;
-    const bool master_answered = ros::master::getTopics(published);
+    bool asked = false, master_answered = false;
     std::string waiting, absent;
     for (const ros::Subscriber& subscriber : subscribers_) {
       if (subscriber.getNumPublishers() > 0) continue;
+      if (!asked) {  // the master only when a topic is not connected (once per call)
+        master_answered = ros::master::getTopics(published);
+        asked = true;
+      }
       const bool registered = std::any_of(
           published.begin(), published.end(),
           [&](const ros::master::TopicInfo& t) { return t.name == subscriber.getTopic(); });

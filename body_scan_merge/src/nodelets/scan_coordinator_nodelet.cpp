@@ -49,6 +49,8 @@
 
 namespace body_scan_merge {
 
+namespace {
+
 // ~group_seconds when given, else the pairs' pattern frames at the camera's frame rate
 // (GroupTiming; the defaults give the thesis's 0.5 s).
 double groupSeconds(ros::NodeHandle& pnh) {
@@ -70,6 +72,8 @@ double groupSeconds(ros::NodeHandle& pnh) {
     return 0.5;
   }
 }
+
+}  // namespace
 
 class ScanCoordinatorNodelet : public nodelet::Nodelet {
  private:
