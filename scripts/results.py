@@ -351,6 +351,7 @@ def benchmarks(r, q):
         ("body_scan_driver", "bench_decode_triangulate", ""),
         ("body_scan_merge", "bench_full_scan", ""),
         ("body_gait_model", "bench_body_fit", ""),
+        ("body_gait_model", "bench_full_scanner_sim", ""),
         ("body_gait_id", "bench_identify", "--benchmark_filter='/(10000|100000)/'"),
     ]
     commands, seconds, jsons = [], 0.0, []
@@ -369,7 +370,8 @@ def benchmarks(r, q):
     text, _ = r.run(report_command)
     commands.append(report_command)
     lines = ["Google Benchmark medians of 3 repetitions (CPU time; wall time for the "
-             "multi-threaded cases), and every peer's time over ours in the same run "
+             "multi-threaded cases, or the whole process's CPU time where marked), and every "
+             "peer's time over ours in the same run "
              "(`scripts/bench_report.py`). Only the in-run ratios compare across machines.", "",
              "```"] + text.rstrip().splitlines() + ["```", ""]
     lines += ["Identification latency (`bench_identify`: synthetic people who walk alike, 40 "
