@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Walk sessions end to end on the simulated full scanner (full_scanner.launch walk_scenes:=...).
 
-The gallery: simulated people 0-5 enrolled from walk 0 (their full-scanner fits are the test
-data in data/gallery_fits, so enrolment takes no scans). The walker: person ~person on walk 1,
-the 4 poses taken at the coordinator's prompts (simulated_walker). /body_scan/capture_walk
+The gallery: simulated people 0-5 enrolled from walk 0 (their full-scanner walk-level fits are
+the test data in data/gallery_fits, so enrolment takes no scans). The walker: person ~person on
+walk 1, the 4 poses taken at the coordinator's prompts (simulated_walker). /body_scan/capture_walk
 scans them; the fitter fits the walk, gait_id_node identifies it. ~enrolled: the walk must be
 identified as that person and accepted; otherwise (a stranger) it must be rejected. ~replay:
 the walk is also recorded (record.launch) and replayed (replay.launch under /replay with the
