@@ -438,7 +438,7 @@ def recognition_full_scanner(r, q):
              f"settings (`recognition.launch`: body shape, median walk body, the full scanner's "
              f"noise file, learned on persons 25-49, so these {subjects} people are new to it). "
              f"Rows: per frame of the probe walk's cycle, per walk, and walk 1's four fits as "
-             f"single-scan probes (how `gait_id_node` sees a person scanned once; its EER "
+             f"single-scan probes (how `gait_id_node` identifies each scan of a walk; its EER "
              f"threshold is what `accept_threshold` should be). {first_line(text)} Plot: "
              f"`docs/images/gait_id_cross_walk_full.png`.", ""]
     return [walks, scans], s1 + s2, lines + table(GAIT_HEADER, rows)

@@ -1,15 +1,16 @@
 // Enrols simulated people into a gallery database and writes a scene file of one of them on
 // another walk: what `make demo` scans live and identifies. Each person's four
-// representative poses (thesis 5.3) of walk --trial are scanned and fitted (fitWalks: the full
-// scanner simulation by default, through the fit cache), then enrolled as the eta1 and eta2
-// training cycles (5.8.3). The scene file holds the floor and the person's body as a `human`
+// representative poses (thesis 5.3) of walk --trial are scanned and fitted together (fitWalks:
+// the full scanner simulation and the walk-level fit by default, as the body fitter fits the live
+// walk the demo identifies; through the fit cache), then enrolled as the eta1 and eta2 training
+// cycles (5.8.3). The scene file holds the floor and the person's body as a `human`
 // object, so full_scanner.launch scans exactly that walk and pose. --walk-body is the enrolment
 // rule of gait_id_node's ~walk_body (default median, as recognition.launch). --body mesh enrols
 // and writes the skinned mesh human (a `mesh_human` scene object) instead of the ellipsoids.
 //
 //   enroll_simulated_people --database FILE [--people N] [--trial T] [--seed S]
-//       [--scanner full|sampler|truth] [--body ellipsoid|mesh] [--cache DIR] [--threads T]
-//       [--walk-body median|mean]
+//       [--scanner full|sampler|truth] [--body ellipsoid|mesh] [--fit walk|scan] [--cache DIR]
+//       [--threads T] [--walk-body median|mean]
 //       [--scene-out FILE.yaml --scene-person K --scene-trial T --scene-pose P]
 //       [--walk-scenes DIR]   (all 4 poses of that walk: DIR/pose_1.yaml .. pose_4.yaml)
 #include <body_gait_id/enrollment.h>
@@ -75,6 +76,8 @@ int main(int argc, char** argv) {
   tools::addChoice(app, "--body", scan.body, body_gait_id::tools::kBodyChoices,
                    "the simulated body enrolled and written into the scenes: ellipsoid "
                    "(default) or the skinned mesh human");
+  tools::addChoice(app, "--fit", scan.fit, body_gait_id::tools::kFitChoices,
+                   body_gait_id::tools::kFitHelp);
   app.add_option("--cache", scan.cache_folder, "fit cache folder (fits are reused)");
   app.add_option("--threads", scan.threads, "scans in parallel")
       ->capture_default_str()
