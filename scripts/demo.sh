@@ -11,6 +11,8 @@
 #   SCENE=path/to/scene.yaml scripts/demo.sh    (one scan of another scene; likely unknown)
 #   DEMO_PERSON=0..5 scripts/demo.sh            (which enrolled person walks through; 6..: a
 #                                                stranger)
+#   DEMO_BODY=mesh scripts/demo.sh              (the people as the skinned mesh human instead of
+#                                                ellipsoids: enrolled and scanned live)
 #   LAUNCH_ARGS="outlier_removal:=true voxel_leaf:=0.002" scripts/demo.sh  (full_scanner args)
 set -euo pipefail
 export PATH=/usr/bin:$PATH
@@ -24,6 +26,7 @@ export ROS_MASTER_URI="http://localhost:$port"
 export ROS_HOME="$root/build/ros_home"
 demo="$root/build/demo"
 person=${DEMO_PERSON:-3}
+body=${DEMO_BODY:-ellipsoid}
 mkdir -p "$demo" "$ROS_HOME"
 rm -f "$demo/full_scan.ply" "$demo/full_scan.pcd" "$demo/identity.txt"
 
@@ -35,8 +38,8 @@ walk_args=(walk_scenes:="$demo/walk")
 [ -n "${SCENE:-}" ] && scene_args=() && walk_args=()
 echo "== enrolling 6 simulated people in $gallery from their walks: walk 0 of each, its 4 poses"
 echo "   scanned with the 12-pair simulation and fitted together, as the live walk is (cached in"
-echo "   $demo/fit_cache: a re-run takes seconds)"
-rosrun body_gait_id enroll_simulated_people --database "$gallery" --people 6 \
+echo "   $demo/fit_cache: a re-run takes seconds); body: $body"
+rosrun body_gait_id enroll_simulated_people --database "$gallery" --people 6 --body "$body" \
   --cache "$demo/fit_cache" "${scene_args[@]}" 2> "$demo/enroll.log" ||
   { tail -n 20 "$demo/enroll.log" >&2; echo "demo failed: enrolment" >&2; exit 1; }
 scene=${SCENE:-$demo/scene.yaml}

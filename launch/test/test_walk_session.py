@@ -20,7 +20,7 @@ import unittest
 import rospy
 import rostest
 
-from test_record_replay import wait_for_subscriber  # same directory
+from test_record_replay import TIME_SCALE, wait_for_subscriber  # same directory
 from body_scan_msgs.msg import Identity, WalkProgress
 from body_scan_msgs.srv import CaptureWalk, ListSubjects, RemoveSubject
 
@@ -39,7 +39,7 @@ class Identities:
             self.received.append(identity)
 
     def walk(self, walk_id, timeout):
-        deadline = time.time() + timeout
+        deadline = time.time() + timeout * TIME_SCALE
         while time.time() < deadline and not rospy.is_shutdown():
             with self.lock:
                 for identity in self.received:

@@ -119,9 +119,7 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& s) {
   app.add_option("--threads", s.scan.threads, "scans in parallel")
       ->capture_default_str()
       ->check(tools::inRange(1, 16));
-  tools::addChoice(app, "--body", s.scan.body,
-                   {{"ellipsoid", body_gait_model::eval::BodyKind::kEllipsoid},
-                    {"mesh", body_gait_model::eval::BodyKind::kMesh}},
+  tools::addChoice(app, "--body", s.scan.body, body_gait_id::tools::kBodyChoices,
                    "the simulated body: ellipsoid (default) or the skinned mesh human");
   app.add_option("--cache", s.scan.cache_folder, "fit cache folder (fits are reused)");
   app.add_option("--seed", s.seed, "seed of the simulated people")->capture_default_str();

@@ -1,4 +1,4 @@
-// The --scanner and --fit choices of the evaluation tools (evaluate_gait_id,
+// The --scanner, --body and --fit choices of the evaluation tools (evaluate_gait_id,
 // enroll_simulated_people).
 #pragma once
 
@@ -14,6 +14,10 @@ inline const std::vector<std::pair<std::string, eval::ScannerKind>> kScannerChoi
     {"full", eval::ScannerKind::kFull},
     {"sampler", eval::ScannerKind::kSampler},
     {"truth", eval::ScannerKind::kTruth}};
+
+inline const std::vector<std::pair<std::string, body_gait_model::eval::BodyKind>> kBodyChoices = {
+    {"ellipsoid", body_gait_model::eval::BodyKind::kEllipsoid},
+    {"mesh", body_gait_model::eval::BodyKind::kMesh}};
 
 // --fit: a walk's 4 scans fitted together (as the body fitter fits a live walk) or each alone.
 inline const std::vector<std::pair<std::string, eval::FitLevel>> kFitChoices = {
