@@ -87,7 +87,8 @@ constexpr double kJointGap = 0.04;       // m each side of the split left out of
 // A leg's points this close to the lowest point touch the floor (m), and its foot is planted
 // when one of them lies this close (horizontally) to where the shank's line meets the floor.
 constexpr double kContactHeight = 0.015, kPlantedReach = 0.07;
-constexpr double kTipCap = 0.03;  // m: an arm's far-end points, before its reach
+constexpr double kTipCap = 0.03;                // m: an arm's far-end points, before its reach
+constexpr double kMaxTipTurn = 30 * kPi / 180;  // the far end's direction from the lower line
 // Bend between the two lines (rad) below which the joint comes from the proportion alone, and
 // above which from the lines' meeting point alone.
 constexpr double kStraightBend = 6 * kPi / 180, kClearBend = 14 * kPi / 180;
@@ -233,7 +234,11 @@ LimbFit fitLimb(std::vector<Eigen::Vector3d> points, const std::vector<Eigen::Ve
   if (!proximal_fixed)
     for (int pass = 0; pass < 2; ++pass) {
       const Eigen::Vector3d towards = farEnd(tip_direction, &far_reach) - limb.middle_joint;
-      if (towards.norm() > kShortUpperPart / 2) tip_direction = towards.normalized();
+      // A cap far off the line holds stray points, no hand (a bent hand turns the elbow-to-tip
+      // direction 10-20 deg).
+      if (towards.norm() > kShortUpperPart / 2 &&
+          towards.normalized().dot(limb.lower.direction) > std::cos(kMaxTipTurn))
+        tip_direction = towards.normalized();
     }
   farEnd(tip_direction, &far_reach);
   limb.distal_end = limb.middle_joint + far_reach * tip_direction;
@@ -496,8 +501,29 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
     throw std::invalid_argument("body fit: no head above the torso (" +
                                 std::to_string(head_points.size()) +
                                 " points); the top viewpoints must see the subject's head");
+  // Sections of the head and neck, each about its own slice's centroid: the torso's are taken
+  // about the body's vertical axis, which a head held forward of the trunk leaves at the neck's
+  // edge (CMU walk 07_02: neck sections of ~0 area, the chin found 30 mm low, the neck 30 % short).
+  const double step =
+      torso.sections.size() > 1 ? torso.sections[1].height - torso.sections[0].height : 0.01;
+  std::vector<std::vector<Eigen::Vector2d>> head_slices(
+      size_t(std::max(1.0, std::ceil((head_top - torso.top) / step))));
+  for (const auto& p : head_points)
+    head_slices[std::min(head_slices.size() - 1, size_t((p.y() - torso.top) / step))].emplace_back(
+        p.x(), p.z());
+  std::vector<CrossSection> head_sections;
+  for (size_t k = 0; k < head_slices.size(); ++k) {
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    for (const auto& xz : head_slices[k]) centre += xz;
+    if (!head_slices[k].empty()) centre /= double(head_slices[k].size());
+    std::vector<Eigen::Vector2d> around;
+    for (const auto& xz : head_slices[k]) around.push_back(xz - centre);
+    CrossSection section = crossSection(around, torso.top + (double(k) + 0.5) * step, sectors);
+    section.centre += centre;
+    head_sections.push_back(section);
+  }
   // The neck: the smallest well-sampled section in the lower half of the head-and-neck range.
-  for (const auto& section : torso.sections)
+  for (const auto& section : head_sections)
     if (section.height > torso.top && section.height < (torso.top + head_top) / 2 &&
         section.filled_sectors >= sectors / 2 && section.area < neck_area) {
       neck_area = section.area;
@@ -507,7 +533,7 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
   double chin = torso.top + 0.3 * (head_top - torso.top);  // if the sections never widen
   bool chin_found = false;
   double head_area = 0;
-  for (const auto& section : torso.sections)
+  for (const auto& section : head_sections)
     if (section.height > neck_height && section.height < head_top) {
       if (section.filled_sectors < sectors / 2) continue;
       if (!chin_found && section.area > 1.6 * neck_area) {
@@ -523,7 +549,8 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
       head_centroid += p;
       ++head_count;
     }
-  const CrossSection& chin_section = torso.sectionAt(chin);
+  const CrossSection& chin_section = head_sections[std::min(
+      head_sections.size() - 1, size_t(std::max(0.0, (chin - torso.top) / step)))];
   const Eigen::Vector3d chin_centre(chin_section.centre.x(), chin, chin_section.centre.y());
   Eigen::Vector3d head_direction = torso.upper_direction;
   // Dark hair returns no light: the head's upper half is then open (its sections have points in
@@ -881,30 +908,45 @@ ShankLengths shankLengthsToSoles(const BodyModel& model, const DirectFit& direct
 
 // The refinement turns each lower arm to its forearm's surface, and a hand bent at the wrist
 // (real walks: 20-40 deg) leaves its tip 40-60 mm off that line: each lower arm is aimed from its
-// refined elbow at the tip the direct fit found (lengths: the elbow-to-tip distances, or
-// `lengths` when given, a walk's shared ones).
-std::array<double, 2> elbowToHandTips(const BodyModel& model, const DirectFit& direct) {
+// refined elbow at the tip the direct fit found. A tip the refined arm does not point at (beyond
+// kMaxTipTurn of its line, or its distance beyond max_length_change of the arm's length) comes
+// from a failed direct fit of the arm, which the refinement corrected: that arm stays.
+struct HandTips {
+  std::array<double, 2> length{};  // elbow to tip
+  std::array<bool, 2> found{};     // the tip agrees with the refined arm
+};
+
+HandTips elbowToHandTips(const BodyModel& model, const DirectFit& direct,
+                         double max_length_change) {
   const PosedModel posed = forwardKinematics(model);
-  std::array<double, 2> lengths{};
-  for (int side = 0; side < 2; ++side)
-    lengths[side] = (direct.hand_tips[side] -
-                     posed.segments[side == 0 ? kRightLowerArm : kLeftLowerArm].proximal)
-                        .norm();
-  return lengths;
+  HandTips tips;
+  for (int side = 0; side < 2; ++side) {
+    const int segment = side == 0 ? kRightLowerArm : kLeftLowerArm;
+    const PosedSegment& arm = posed.segments[segment];
+    const Eigen::Vector3d to_tip = direct.hand_tips[side] - arm.proximal;
+    tips.length[side] = to_tip.norm();
+    tips.found[side] =
+        tips.length[side] > 1e-3 && model.r[segment] > 0 &&
+        to_tip.normalized().dot((arm.distal - arm.proximal).normalized()) > std::cos(kMaxTipTurn) &&
+        std::abs(tips.length[side] / model.r[segment] - 1) < max_length_change;
+  }
+  return tips;
 }
 
-void aimLowerArmsAtHandTips(BodyModel& model, const DirectFit& direct,
+// Aims each lower arm whose tip was found at it; `lengths` (the walk's shared ones, or the
+// tips' distances) go to every arm with a length.
+void aimLowerArmsAtHandTips(BodyModel& model, const DirectFit& direct, const HandTips& tips,
                             const std::array<double, 2>& lengths, const JointLimitSet& limits) {
   for (int side = 0; side < 2; ++side) {
     const int segment = side == 0 ? kRightLowerArm : kLeftLowerArm;
+    if (lengths[side] > 0) model.r[segment] = lengths[side];
+    if (!tips.found[side]) continue;
     const PosedModel posed = forwardKinematics(model);
-    const PosedSegment& upper = posed.segments[segment - 1];
     const Eigen::Vector3d to_tip = direct.hand_tips[side] - posed.segments[segment].proximal;
-    if (to_tip.norm() < 1e-3) continue;
     const Eigen::Vector2d angles = jointAnglesForDirection(
-        upper.frame.linear().transpose() * to_tip.normalized(), segmentInfo(segment).points_up);
+        posed.segments[segment - 1].frame.linear().transpose() * to_tip.normalized(),
+        segmentInfo(segment).points_up);
     model.setJointAngles(segment, angles[0], angles[1]);
-    model.r[segment] = lengths[side];
   }
   model = clampToJointLimits(model, limits);
 }
@@ -938,7 +980,11 @@ BodyFit fitBody(const Cloud& full_cloud, const FitOptions& options) {
     const auto shanks = shankLengthsToSoles(model, direct, options.refinement.min_length);
     model.r[kRightLowerLeg] = shanks.length[0];
     model.r[kLeftLowerLeg] = shanks.length[1];
-    aimLowerArmsAtHandTips(model, direct, elbowToHandTips(model, direct), options.joint_limits);
+    const HandTips tips = elbowToHandTips(model, direct, options.refinement.max_length_change);
+    std::array<double, 2> lengths{};
+    for (int side = 0; side < 2; ++side)
+      if (tips.found[side]) lengths[side] = tips.length[side];
+    aimLowerArmsAtHandTips(model, direct, tips, lengths, options.joint_limits);
   }
   finishFit(full_cloud, options, direct);
   return direct.fit;
@@ -997,19 +1043,23 @@ WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options) {
       }
       for (int side = 0; side < 2; ++side)
         if (!planted_lengths[side].empty()) shank_lengths[side] = planted_lengths[side];
+      // Each lower arm: the median elbow-to-tip distance over the scans whose tip was found.
+      std::vector<HandTips> tips;
       std::vector<double> forearm_lengths[2];
       for (size_t k = 0; k < fitted.size(); ++k) {
-        const auto lengths = elbowToHandTips(models[k], directs[fitted[k]]);
-        forearm_lengths[0].push_back(lengths[0]);
-        forearm_lengths[1].push_back(lengths[1]);
+        tips.push_back(
+            elbowToHandTips(models[k], directs[fitted[k]], options.refinement.max_length_change));
+        for (int side = 0; side < 2; ++side)
+          if (tips.back().found[side]) forearm_lengths[side].push_back(tips.back().length[side]);
       }
-      const std::array<double, 2> forearms = {median(forearm_lengths[0]),
-                                              median(forearm_lengths[1])};
+      std::array<double, 2> forearms{};
+      for (int side = 0; side < 2; ++side)
+        if (!forearm_lengths[side].empty()) forearms[side] = median(forearm_lengths[side]);
       for (size_t k = 0; k < fitted.size(); ++k) {
         BodyModel& model = models[k];
         model.r[kRightLowerLeg] = median(shank_lengths[0]);
         model.r[kLeftLowerLeg] = median(shank_lengths[1]);
-        aimLowerArmsAtHandTips(model, directs[fitted[k]], forearms, options.joint_limits);
+        aimLowerArmsAtHandTips(model, directs[fitted[k]], tips[k], forearms, options.joint_limits);
       }
     }
     for (size_t k = 0; k < fitted.size(); ++k) {
