@@ -87,7 +87,9 @@ constexpr double kJointGap = 0.04;       // m each side of the split left out of
 // A leg's points this close to the lowest point touch the floor (m), and its foot is planted
 // when one of them lies this close (horizontally) to where the shank's line meets the floor.
 constexpr double kContactHeight = 0.015, kPlantedReach = 0.07;
-constexpr double kTipCap = 0.03;                // m: an arm's far-end points, before its reach
+constexpr double kTipCap = 0.03;
+constexpr double kCrownCap = 0.02;  // m: the head's top points whose centroid is the vertex // m:
+                                    // an arm's far-end points, before its reach
 constexpr double kMaxTipTurn = 30 * kPi / 180;  // the far end's direction from the lower line
 // Bend between the two lines (rad) below which the joint comes from the proportion alone, and
 // above which from the lines' meeting point alone.
@@ -483,6 +485,10 @@ struct HeadFit {
   double head_area = 0;  // largest section of the head, m^2
   Eigen::Vector3d head_direction;
   double stature = 0;
+  // The vertex seen: the centroid of the head's top kCrownCap at the highest point's height
+  // (not when the hair is unseen or the crown lies above the viewpoints' sight).
+  Eigen::Vector3d crown = Eigen::Vector3d::Zero();
+  bool crown_seen = false;
 };
 
 HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vector<Part>& part,
@@ -579,7 +585,21 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
   // sight (tall subjects under the full scanner's top pairs).
   const double stature = std::max(head_top - axes.lowest, axes.stature);
 
-  return {neck_area, chin, head_area, head_direction, stature};
+  HeadFit fit{neck_area, chin, head_area, head_direction, stature};
+  if (!head_top_open && head_top - axes.lowest >= axes.stature - 0.005) {
+    Eigen::Vector2d cap = Eigen::Vector2d::Zero();
+    int count = 0;
+    for (const auto& p : head_points)
+      if (p.y() > head_top - kCrownCap) {
+        cap += Eigen::Vector2d(p.x(), p.z());
+        ++count;
+      }
+    if (count >= 10) {
+      fit.crown = Eigen::Vector3d(cap.x() / count, head_top, cap.y() / count);
+      fit.crown_seen = true;
+    }
+  }
+  return fit;
 }
 
 // The four limbs' lines, middle joints and far ends, and the shoulders and hips they hang from
@@ -797,6 +817,8 @@ struct DirectFit {
   Cloud without_feet;   // the fitting cloud above the feet (the model has none): refinement's
   Eigen::Vector3d soles[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};      // world
   Eigen::Vector3d hand_tips[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};  // world
+  Eigen::Vector3d crown = Eigen::Vector3d::Zero();  // world, when crown_seen
+  bool crown_seen = false;
   // Each leg's points within kContactHeight of the lowest point (world), and the floor's height
   // (world z of the lowest point).
   std::vector<Eigen::Vector3d> contacts[2];
@@ -858,6 +880,8 @@ DirectFit fitDirectly(const Cloud& full_cloud, const FitOptions& options) {
       if ((part[i] == kRightLeg || part[i] == kLeftLeg) &&
           model_points[i].y() < axes.lowest + kContactHeight)
         direct.contacts[part[i] == kLeftLeg ? 1 : 0].push_back(cloud[i]);
+    direct.crown = axes.toWorld(head.crown);
+    direct.crown_seen = head.crown_seen;
     direct.hand_tips[0] = axes.toWorld(joints.limbs[kRightArm].distal_end);
     direct.hand_tips[1] = axes.toWorld(joints.limbs[kLeftArm].distal_end);
     direct.fitted = true;
@@ -951,6 +975,36 @@ void aimLowerArmsAtHandTips(BodyModel& model, const DirectFit& direct, const Han
   model = clampToJointLimits(model, limits);
 }
 
+// The refinement turns the head to the surface of its points, face and hair, whose axis runs
+// behind the vertex (simulated and CMU walks: head top 15-18 mm behind): the head is aimed from
+// its refined base at the vertex the direct fit saw, under the same agreement test as the hands.
+// Returns the base-to-vertex distance, 0 when no vertex was seen or it disagrees.
+double headBaseToCrown(const BodyModel& model, const DirectFit& direct, double max_length_change) {
+  if (!direct.crown_seen) return 0;
+  const PosedModel posed = forwardKinematics(model);
+  const PosedSegment& head = posed.segments[kHead];
+  const Eigen::Vector3d to_crown = direct.crown - head.proximal;
+  const double length = to_crown.norm();
+  const bool agrees = length > 1e-3 && model.r[kHead] > 0 &&
+                      to_crown.normalized().dot((head.distal - head.proximal).normalized()) >
+                          std::cos(kMaxTipTurn) &&
+                      std::abs(length / model.r[kHead] - 1) < max_length_change;
+  return agrees ? length : 0;
+}
+
+// Aims the head at the vertex when `found`; `length` > 0 becomes the head's length.
+void aimHeadAtCrown(BodyModel& model, const DirectFit& direct, bool found, double length,
+                    const JointLimitSet& limits) {
+  if (length > 0) model.r[kHead] = length;
+  if (!found) return;
+  const PosedModel posed = forwardKinematics(model);
+  const Eigen::Vector3d to_crown = direct.crown - posed.segments[kHead].proximal;
+  const Eigen::Vector2d angles = jointAnglesForDirection(
+      posed.segments[kNeck].frame.linear().transpose() * to_crown.normalized(), true);
+  model.setJointAngles(kHead, angles[0], angles[1]);
+  model = clampToJointLimits(model, limits);
+}
+
 // The fit quality against the whole cloud, the direct fit's failure and the limits reached.
 void finishFit(const Cloud& full_cloud, const FitOptions& options, DirectFit& direct) {
   BodyFit& fit = direct.fit;
@@ -985,6 +1039,8 @@ BodyFit fitBody(const Cloud& full_cloud, const FitOptions& options) {
     for (int side = 0; side < 2; ++side)
       if (tips.found[side]) lengths[side] = tips.length[side];
     aimLowerArmsAtHandTips(model, direct, tips, lengths, options.joint_limits);
+    const double crown = headBaseToCrown(model, direct, options.refinement.max_length_change);
+    aimHeadAtCrown(model, direct, crown > 0, crown, options.joint_limits);
   }
   finishFit(full_cloud, options, direct);
   return direct.fit;
@@ -1055,11 +1111,20 @@ WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options) {
       std::array<double, 2> forearms{};
       for (int side = 0; side < 2; ++side)
         if (!forearm_lengths[side].empty()) forearms[side] = median(forearm_lengths[side]);
+      // The head: the median base-to-vertex distance over the scans whose vertex agrees.
+      std::vector<double> crowns, head_lengths;
+      for (size_t k = 0; k < fitted.size(); ++k) {
+        crowns.push_back(
+            headBaseToCrown(models[k], directs[fitted[k]], options.refinement.max_length_change));
+        if (crowns.back() > 0) head_lengths.push_back(crowns.back());
+      }
+      const double head_length = head_lengths.empty() ? 0.0 : median(head_lengths);
       for (size_t k = 0; k < fitted.size(); ++k) {
         BodyModel& model = models[k];
         model.r[kRightLowerLeg] = median(shank_lengths[0]);
         model.r[kLeftLowerLeg] = median(shank_lengths[1]);
         aimLowerArmsAtHandTips(model, directs[fitted[k]], tips[k], forearms, options.joint_limits);
+        aimHeadAtCrown(model, directs[fitted[k]], crowns[k] > 0, head_length, options.joint_limits);
       }
     }
     for (size_t k = 0; k < fitted.size(); ++k) {
