@@ -4,6 +4,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -495,7 +497,6 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
                 const TorsoFit& torso, const BodyAxes& axes, int sectors) {
   // Head and neck (5.5.4): the neck is the narrowest section above the torso, the chin where the
   // sections widen again; the head runs from there to its highest point.
-  double neck_area = std::numeric_limits<double>::infinity(), neck_height = torso.top;
   double head_top = torso.top;
   std::vector<Eigen::Vector3d> head_points;
   for (size_t i = 0; i < model_points.size(); ++i)
@@ -528,26 +529,59 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
     section.centre += centre;
     head_sections.push_back(section);
   }
-  // The neck: the smallest well-sampled section in the lower half of the head-and-neck range.
-  for (const auto& section : head_sections)
-    if (section.height > torso.top && section.height < (torso.top + head_top) / 2 &&
-        section.filled_sectors >= sectors / 2 && section.area < neck_area) {
-      neck_area = section.area;
-      neck_height = section.height;
-    }
-  if (!std::isfinite(neck_area)) neck_area = torso.sectionAt(torso.top).area;
-  double chin = torso.top + 0.3 * (head_top - torso.top);  // if the sections never widen
-  bool chin_found = false;
-  double head_area = 0;
-  for (const auto& section : head_sections)
-    if (section.height > neck_height && section.height < head_top) {
-      if (section.filled_sectors < sectors / 2) continue;
-      if (!chin_found && section.area > 1.6 * neck_area) {
-        chin = section.height;
-        chin_found = true;
+  // The neck: the smallest well-sampled section in the lower half of the head-and-neck range;
+  // the chin where the sections widen past 1.6x it.
+  struct NeckAndChin {
+    double neck_area = std::numeric_limits<double>::infinity(), neck_height = 0;
+    double chin = 0, head_area = 0;
+    bool chin_found = false;
+    Eigen::Vector2d chin_centre = Eigen::Vector2d::Zero();
+  };
+  auto neckAndChin = [&](const std::vector<CrossSection>& sections) {
+    NeckAndChin found;
+    found.neck_height = torso.top;
+    for (const auto& section : sections)
+      if (section.height > torso.top && section.height < (torso.top + head_top) / 2 &&
+          section.filled_sectors >= sectors / 2 && section.area < found.neck_area) {
+        found.neck_area = section.area;
+        found.neck_height = section.height;
       }
-      head_area = std::max(head_area, section.area);
+    if (!std::isfinite(found.neck_area)) found.neck_area = torso.sectionAt(torso.top).area;
+    found.chin = torso.top + 0.3 * (head_top - torso.top);  // if the sections never widen
+    for (const auto& section : sections)
+      if (section.height > found.neck_height && section.height < head_top) {
+        if (section.filled_sectors < sectors / 2) continue;
+        if (!found.chin_found && section.area > 1.6 * found.neck_area) {
+          found.chin = section.height;
+          found.chin_found = true;
+          found.chin_centre = section.centre;
+        }
+        found.head_area = std::max(found.head_area, section.area);
+      }
+    if (!found.chin_found) {
+      const double at = found.chin;
+      const auto nearest = std::min_element(
+          sections.begin(), sections.end(),
+          [&](auto& a, auto& b) { return std::abs(a.height - at) < std::abs(b.height - at); });
+      if (nearest != sections.end()) found.chin_centre = nearest->centre;
     }
+    return found;
+  };
+  // Dark hair returns no light: the head's upper half is then open (its sections about the axis
+  // have points in a few sectors only, the face's; a seen head fills nearly all). A slice's own
+  // centroid then lies on the face, not inside the head, so such a head keeps the sections about
+  // the axis (the chin-to-vertex proportion below was measured on them).
+  const NeckAndChin about_axis = neckAndChin(torso.sections);
+  int upper_head_sections = 0, upper_head_filled = 0;
+  for (const auto& section : torso.sections)
+    if (section.height > (about_axis.chin + head_top) / 2 && section.height < head_top) {
+      ++upper_head_sections;
+      upper_head_filled += section.filled_sectors;
+    }
+  const bool head_top_open = about_axis.chin_found && upper_head_sections > 0 &&
+                             upper_head_filled < upper_head_sections * sectors / 2;
+  const NeckAndChin found = head_top_open ? about_axis : neckAndChin(head_sections);
+  const double neck_area = found.neck_area, chin = found.chin, head_area = found.head_area;
   Eigen::Vector3d head_centroid = Eigen::Vector3d::Zero();
   int head_count = 0;
   for (const auto& p : head_points)
@@ -555,27 +589,16 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
       head_centroid += p;
       ++head_count;
     }
-  const CrossSection& chin_section = head_sections[std::min(
-      head_sections.size() - 1, size_t(std::max(0.0, (chin - torso.top) / step)))];
-  const Eigen::Vector3d chin_centre(chin_section.centre.x(), chin, chin_section.centre.y());
+  const Eigen::Vector3d chin_centre(found.chin_centre.x(), chin, found.chin_centre.y());
   Eigen::Vector3d head_direction = torso.upper_direction;
-  // Dark hair returns no light: the head's upper half is then open (its sections have points in
-  // a few sectors only, the face's; a seen head fills nearly all), its visible top lies 40-53 mm
-  // below the vertex and the face alone pulls the head's centroid forward. Then the vertex comes
+  // An open head's visible top lies 40-53 mm below the vertex and the face alone pulls the
+  // head's centroid forward. Then the vertex comes
   // from the chin by proportion: in fits of simulated subjects with their hair seen, the chin
   // found above lies 0.103 (0.096-0.116) of the stature below the vertex (10 subjects x 4 poses;
   // Drillis & Contini's chin-to-vertex is 0.130, the sections widen past 1.6x the neck's ~0.03
   // higher). Measured on the same subjects with dark hair: vertex -3 mm (8 mm RMS) instead of
   // -46 mm. The stature from it sets the hips' height.
   constexpr double kChinToVertex = 0.103;  // * stature
-  int upper_head_sections = 0, upper_head_filled = 0;
-  for (const auto& section : torso.sections)
-    if (section.height > (chin + head_top) / 2 && section.height < head_top) {
-      ++upper_head_sections;
-      upper_head_filled += section.filled_sectors;
-    }
-  const bool head_top_open = chin_found && upper_head_sections > 0 &&
-                             upper_head_filled < upper_head_sections * sectors / 2;
   if (head_top_open)
     head_top = std::max(head_top, (chin - kChinToVertex * axes.lowest) / (1 - kChinToVertex));
   else if (head_count > 10)
