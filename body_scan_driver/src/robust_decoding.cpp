@@ -136,15 +136,28 @@ size_t fitLocalPlanes(StripeImage& stripes, const std::vector<cv::Mat>& frames,
                            ? measured_weight(v, u)
                            : 0.0;  // NaN comparisons are false: dropped
   }
+  // The last fit's inliers per window: their mean weight is the window's typical contrast.
+  cv::Mat1d inlier(rows, cols);
+  for (int v = 0; v < rows; ++v)
+    for (int u = 0; u < cols; ++u) inlier(v, u) = weight(v, u) > 0 ? 1.0 : 0.0;
+  const cv::Mat1d inliers = windowSum(inlier, window);
+  const double redecide_share = robust.redecide_contrast_share * robust.redecide_contrast_share;
   size_t rejected = 0;
   for (int v = 0; v < rows; ++v)
     for (int u = 0; u < cols; ++u) {
       if (!std::isfinite(measured(v, u))) continue;
       float& coordinate = stripes.coordinate(v, u);
       coordinate = fitted(v, u);
-      // A re-decision moves a code by a few stripes at most (max_neighbour_deviation); farther,
-      // the window's inliers lie off to one side and their plane extrapolates: no surface.
-      if (std::abs(coordinate - measured(v, u)) <= robust.max_neighbour_deviation) continue;
+      const double deviation = std::abs(coordinate - measured(v, u));
+      // An outlier of its own window is re-decided only if its code is much less reliable than
+      // its neighbours' (a dark pixel among bright ones); a pixel as bright as they are is
+      // another surface (a depth edge): blending it would make a flying point. A re-decision
+      // moves a code by a few stripes at most (max_neighbour_deviation); farther, the window's
+      // inliers lie off to one side and their plane extrapolates.
+      const bool reliable_outlier =
+          deviation > robust.fit_outlier &&
+          measured_weight(v, u) >= redecide_share * weight_sum(v, u) / std::max(1.0, inliers(v, u));
+      if (!reliable_outlier && deviation <= robust.max_neighbour_deviation) continue;
       coordinate = std::numeric_limits<float>::quiet_NaN();
       stripes.stripe(v, u) = kInvalidStripe;
       ++rejected;

@@ -40,6 +40,10 @@ struct RobustDecoding {
   // Pixels farther than this (stripes) from the fit are left out of the refit (fit_passes fits).
   double fit_outlier = 0.75;
   int fit_passes = 3;
+  // Such an outlier takes the fit only if its contrast is below this share of its window's
+  // inliers' (rms): a dark pixel's code among bright ones. A brighter outlier is another surface
+  // (a depth edge) and is left invalid rather than blended.
+  double redecide_contrast_share = 0.5;
 
   // The StripeDecoder parameters of this decoding (base as is when not enabled).
   DecoderParams decoderParams(DecoderParams base = {}) const;
