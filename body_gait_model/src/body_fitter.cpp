@@ -84,6 +84,10 @@ double mean(const std::vector<double>& values) {
 // feet, left out of the line fits). proximalOf gives the proximal joint.
 constexpr double kShortUpperPart = 0.2;  // m
 constexpr double kJointGap = 0.04;       // m each side of the split left out of the joint lines
+// A leg's points this close to the lowest point touch the floor (m), and its foot is planted
+// when one of them lies this close (horizontally) to where the shank's line meets the floor.
+constexpr double kContactHeight = 0.015, kPlantedReach = 0.07;
+constexpr double kTipCap = 0.03;  // m: an arm's far-end points, before its reach
 // Bend between the two lines (rad) below which the joint comes from the proportion alone, and
 // above which from the lines' meeting point alone.
 constexpr double kStraightBend = 6 * kPi / 180, kClearBend = 14 * kPi / 180;
@@ -206,11 +210,33 @@ LimbFit fitLimb(std::vector<Eigen::Vector3d> points, const std::vector<Eigen::Ve
     limb.upper.direction = (limb.middle_joint - from).normalized();
   }
   best_split = split_index;
-  // Far end: the 99.5th percentile of the lower part along its line (robust to stray points).
-  std::vector<double> reach;
-  for (size_t i = best_split; i < points.size(); ++i)
-    reach.push_back((points[i] - limb.middle_joint).dot(limb.lower.direction));
-  limb.distal_end = limb.middle_joint + quantile(reach, 0.995) * limb.lower.direction;
+  // Far end: the 99.5th percentile of the lower part along a direction from the middle joint
+  // (robust to stray points). The hand bends at the wrist away from the forearm's line (CMU
+  // walks: 20-40 deg, its tip 60-90 mm off the line), so an arm's direction is turned toward
+  // the centroid of its far end's points (twice: the cap then lies across the new direction).
+  auto farEnd = [&](const Eigen::Vector3d& direction, double* far_reach) {
+    std::vector<double> reach;
+    for (size_t i = best_split; i < points.size(); ++i)
+      reach.push_back((points[i] - limb.middle_joint).dot(direction));
+    *far_reach = quantile(reach, 0.995);
+    Eigen::Vector3d cap = Eigen::Vector3d::Zero();
+    int count = 0;
+    for (size_t i = best_split; i < points.size(); ++i)
+      if (reach[i - best_split] > *far_reach - kTipCap && reach[i - best_split] <= *far_reach) {
+        cap += points[i];
+        ++count;
+      }
+    return count > 0 ? Eigen::Vector3d(cap / count) : limb.middle_joint + *far_reach * direction;
+  };
+  Eigen::Vector3d tip_direction = limb.lower.direction;
+  double far_reach = 0;
+  if (!proximal_fixed)
+    for (int pass = 0; pass < 2; ++pass) {
+      const Eigen::Vector3d towards = farEnd(tip_direction, &far_reach) - limb.middle_joint;
+      if (towards.norm() > kShortUpperPart / 2) tip_direction = towards.normalized();
+    }
+  farEnd(tip_direction, &far_reach);
+  limb.distal_end = limb.middle_joint + far_reach * tip_direction;
   // Radii: mean distance to the line over each half of each part.
   auto radii = [&](size_t from, size_t to, const Line& line, double* out) {
     const size_t middle = (from + to) / 2;
@@ -742,7 +768,12 @@ struct DirectFit {
   bool fitted = false;  // false: no body shape found, fit holds a flagged standing template
   std::string failure;  // why not
   Cloud without_feet;   // the fitting cloud above the feet (the model has none): refinement's
-  Eigen::Vector3d soles[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};  // world
+  Eigen::Vector3d soles[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};      // world
+  Eigen::Vector3d hand_tips[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};  // world
+  // Each leg's points within kContactHeight of the lowest point (world), and the floor's height
+  // (world z of the lowest point).
+  std::vector<Eigen::Vector3d> contacts[2];
+  double floor = 0;
 };
 
 // Steps 5.5.1-5.5.4 on an even subsample of the cloud. Throws std::invalid_argument when the
@@ -772,12 +803,36 @@ DirectFit fitDirectly(const Cloud& full_cloud, const FitOptions& options) {
     const HeadFit head = fitHead(model_points, part, torso, axes, options.torso.sectors);
     const LimbJoints joints = fitLimbs(model_points, part, torso, axes, head.stature, options);
     assembleModel(upper_axis, head, joints, options.joint_limits, fit);
-    const double foot_top = axes.lowest + options.foot_height * axes.height();
+    // The feet: everything up to foot_height above the lowest point, and each leg's points
+    // within foot_height of its sole along its shank (a lifted foot, whose points would pull
+    // the shank's cylinder toward the toes: CMU swing-leg soles 30-50 mm low).
+    const double foot_height = options.foot_height * axes.height();
+    const double foot_top = axes.lowest + foot_height;
+    double foot_from[2];
+    for (int side = 0; side < 2; ++side) {
+      const LimbFit& leg = joints.limbs[side == 0 ? kRightLeg : kLeftLeg];
+      foot_from[side] = (leg.distal_end - leg.middle_joint).dot(leg.lower.direction) - foot_height;
+    }
     direct.without_feet.reserve(cloud.size());
-    for (size_t i = 0; i < cloud.size(); ++i)
-      if (model_points[i].y() > foot_top) direct.without_feet.push_back(cloud[i]);
+    for (size_t i = 0; i < cloud.size(); ++i) {
+      if (model_points[i].y() <= foot_top) continue;
+      if (part[i] == kRightLeg || part[i] == kLeftLeg) {
+        const int side = part[i] == kLeftLeg ? 1 : 0;
+        const LimbFit& leg = joints.limbs[side == 0 ? kRightLeg : kLeftLeg];
+        if ((model_points[i] - leg.middle_joint).dot(leg.lower.direction) > foot_from[side])
+          continue;
+      }
+      direct.without_feet.push_back(cloud[i]);
+    }
     direct.soles[0] = axes.toWorld(joints.limbs[kRightLeg].distal_end);
     direct.soles[1] = axes.toWorld(joints.limbs[kLeftLeg].distal_end);
+    direct.floor = axes.toWorld(Eigen::Vector3d(0, axes.lowest, 0)).z();
+    for (size_t i = 0; i < cloud.size(); ++i)
+      if ((part[i] == kRightLeg || part[i] == kLeftLeg) &&
+          model_points[i].y() < axes.lowest + kContactHeight)
+        direct.contacts[part[i] == kLeftLeg ? 1 : 0].push_back(cloud[i]);
+    direct.hand_tips[0] = axes.toWorld(joints.limbs[kRightArm].distal_end);
+    direct.hand_tips[1] = axes.toWorld(joints.limbs[kLeftArm].distal_end);
     direct.fitted = true;
   } catch (const std::invalid_argument& not_a_body) {
     // Shaped unlike a body (or parts missing): a standing template at the centroid, flagged.
@@ -791,17 +846,67 @@ DirectFit fitDirectly(const Cloud& full_cloud, const FitOptions& options) {
 // The refinement turns the shanks without the feet (the model has none) and holds their
 // lengths, so their far ends swing away from the soles the direct fit found: the length of
 // each lower leg that ends it where its sole projects onto the refined line. Measured on 10
-// subjects x 4 poses: soles 34 -> 25 mm.
-std::array<double, 2> shankLengthsToSoles(const BodyModel& model, const DirectFit& direct,
-                                          double min_length) {
+// subjects x 4 poses: soles 34 -> 25 mm. That sole is the leg's farthest point along the line
+// but a few, and the scanner sees little of a foot's underside (none within ~1 cm of the
+// floor): on CMU walks planted soles came out 20-50 mm short. A planted foot (flat or on its
+// heel: a point at floor level within kPlantedReach of where the shank's line meets the floor;
+// a toe-off foot touches it 10-15 cm ahead) has its sole on the floor: there the length is the
+// refined knee's distance to the floor along the line.
+struct ShankLengths {
+  std::array<double, 2> length{};
+  std::array<bool, 2> planted{};
+};
+
+ShankLengths shankLengthsToSoles(const BodyModel& model, const DirectFit& direct,
+                                 double min_length) {
   const PosedModel posed = forwardKinematics(model);
-  std::array<double, 2> lengths{};
+  ShankLengths shanks;
   for (int side = 0; side < 2; ++side) {
     const PosedSegment& shank = posed.segments[side == 0 ? kRightLowerLeg : kLeftLowerLeg];
     const Eigen::Vector3d direction = (shank.distal - shank.proximal).normalized();
-    lengths[side] = std::max((direct.soles[side] - shank.proximal).dot(direction), min_length);
+    shanks.length[side] =
+        std::max((direct.soles[side] - shank.proximal).dot(direction), min_length);
+    if (direction.z() > -0.5) continue;  // a leg this far from upright: no floor point
+    const double along = (direct.floor - shank.proximal.z()) / direction.z();
+    const Eigen::Vector3d on_floor = shank.proximal + along * direction;
+    for (const Eigen::Vector3d& contact : direct.contacts[side])
+      if (std::hypot(contact.x() - on_floor.x(), contact.y() - on_floor.y()) < kPlantedReach) {
+        shanks.planted[side] = true;
+        shanks.length[side] = std::max(along, min_length);
+        break;
+      }
   }
+  return shanks;
+}
+
+// The refinement turns each lower arm to its forearm's surface, and a hand bent at the wrist
+// (real walks: 20-40 deg) leaves its tip 40-60 mm off that line: each lower arm is aimed from its
+// refined elbow at the tip the direct fit found (lengths: the elbow-to-tip distances, or
+// `lengths` when given, a walk's shared ones).
+std::array<double, 2> elbowToHandTips(const BodyModel& model, const DirectFit& direct) {
+  const PosedModel posed = forwardKinematics(model);
+  std::array<double, 2> lengths{};
+  for (int side = 0; side < 2; ++side)
+    lengths[side] = (direct.hand_tips[side] -
+                     posed.segments[side == 0 ? kRightLowerArm : kLeftLowerArm].proximal)
+                        .norm();
   return lengths;
+}
+
+void aimLowerArmsAtHandTips(BodyModel& model, const DirectFit& direct,
+                            const std::array<double, 2>& lengths, const JointLimitSet& limits) {
+  for (int side = 0; side < 2; ++side) {
+    const int segment = side == 0 ? kRightLowerArm : kLeftLowerArm;
+    const PosedModel posed = forwardKinematics(model);
+    const PosedSegment& upper = posed.segments[segment - 1];
+    const Eigen::Vector3d to_tip = direct.hand_tips[side] - posed.segments[segment].proximal;
+    if (to_tip.norm() < 1e-3) continue;
+    const Eigen::Vector2d angles = jointAnglesForDirection(
+        upper.frame.linear().transpose() * to_tip.normalized(), segmentInfo(segment).points_up);
+    model.setJointAngles(segment, angles[0], angles[1]);
+    model.r[segment] = lengths[side];
+  }
+  model = clampToJointLimits(model, limits);
 }
 
 // The fit quality against the whole cloud, the direct fit's failure and the limits reached.
@@ -831,8 +936,9 @@ BodyFit fitBody(const Cloud& full_cloud, const FitOptions& options) {
     direct.fit.refinement =
         refineModel(model, direct.without_feet, options.refinement, options.joint_limits);
     const auto shanks = shankLengthsToSoles(model, direct, options.refinement.min_length);
-    model.r[kRightLowerLeg] = shanks[0];
-    model.r[kLeftLowerLeg] = shanks[1];
+    model.r[kRightLowerLeg] = shanks.length[0];
+    model.r[kLeftLowerLeg] = shanks.length[1];
+    aimLowerArmsAtHandTips(model, direct, elbowToHandTips(model, direct), options.joint_limits);
   }
   finishFit(full_cloud, options, direct);
   return direct.fit;
@@ -879,16 +985,31 @@ WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options) {
     }
     if (options.refine) {
       result.refinement = refineWalk(models, clouds, options.refinement, options.joint_limits);
-      std::vector<double> shank_lengths[2];
+      // Each lower leg: the median over the scans where its foot is planted (else over all).
+      std::vector<double> shank_lengths[2], planted_lengths[2];
       for (size_t k = 0; k < fitted.size(); ++k) {
-        const auto lengths =
+        const auto shanks =
             shankLengthsToSoles(models[k], directs[fitted[k]], options.refinement.min_length);
-        shank_lengths[0].push_back(lengths[0]);
-        shank_lengths[1].push_back(lengths[1]);
+        for (int side = 0; side < 2; ++side) {
+          shank_lengths[side].push_back(shanks.length[side]);
+          if (shanks.planted[side]) planted_lengths[side].push_back(shanks.length[side]);
+        }
       }
-      for (BodyModel& model : models) {
+      for (int side = 0; side < 2; ++side)
+        if (!planted_lengths[side].empty()) shank_lengths[side] = planted_lengths[side];
+      std::vector<double> forearm_lengths[2];
+      for (size_t k = 0; k < fitted.size(); ++k) {
+        const auto lengths = elbowToHandTips(models[k], directs[fitted[k]]);
+        forearm_lengths[0].push_back(lengths[0]);
+        forearm_lengths[1].push_back(lengths[1]);
+      }
+      const std::array<double, 2> forearms = {median(forearm_lengths[0]),
+                                              median(forearm_lengths[1])};
+      for (size_t k = 0; k < fitted.size(); ++k) {
+        BodyModel& model = models[k];
         model.r[kRightLowerLeg] = median(shank_lengths[0]);
         model.r[kLeftLowerLeg] = median(shank_lengths[1]);
+        aimLowerArmsAtHandTips(model, directs[fitted[k]], forearms, options.joint_limits);
       }
     }
     for (size_t k = 0; k < fitted.size(); ++k) {

@@ -47,7 +47,9 @@ struct FitOptions {
   // Every joint angle stays within these (direct fit and refinement): walking ranges by
   // default (a real swing knee flexes to 60-70 deg), thesisJointLimits() for Table 5.2's.
   JointLimitSet joint_limits = walkingJointLimits();
-  double foot_height = 0.06;  // * body height above the lowest point: left out of refinement
+  // * body height: the feet, left out of refinement: above the lowest point, and from each leg's
+  // sole up along its shank (a lifted foot).
+  double foot_height = 0.06;
   // Elbow and knee are searched within +- this fraction of the proximal-joint-to-tip length
   // around the standard proportion (Drillis & Contini).
   double arm_split_window = 0.12, leg_split_window = 0.12;

@@ -6,7 +6,8 @@
 //                     [--missing-viewpoints i,j,...] [--abduction-deg D] [--direct]
 //                     [--test-headings] [--per-joint] [--full-scanner]
 //                     [--missing-pairs pole_c/pair_2,...] [--only SUBJECT]
-//                     [--clouds DIR] [--rig RIG.yaml] [--dark-albedo A] [--people N]
+//                     [--clouds DIR] [--clouds-from DIR] [--rig RIG.yaml] [--dark-albedo A]
+//                     [--people N]
 //                     [--lean-deg D] [--fit scan|walk] [--joint-limits walking|thesis]
 //                     [--body ellipsoid|mesh]
 //                     [--out report.yaml]        (all options: evaluate_body_fit --help)
@@ -21,7 +22,8 @@
 // --rig scans with another rig file than the thesis rig; --dark-albedo sets the albedo of the
 // hair and the trunks (default 0.15; below ~0.05 the full scanner decodes little of them).
 // --only runs one subject (e.g. subject_9); --clouds writes every case's cloud to
-// DIR/<subject>_pose<k>.ply (world frame) for a look in rviz or a viewer. --people N fits
+// DIR/<subject>_pose<k>.ply (world frame) for a look in rviz or a viewer; --clouds-from DIR fits
+// those files again instead of scanning (the same cases and scanner options). --people N fits
 // simulatedPeople(N) (eval/gait_subjects.h: survey-drawn bodies, personal gait styles; walk 0)
 // instead of simulatedSubjects. --lean-deg D sets every simulated body's forward torso lean
 // (simulatedSubjects stand upright, simulatedPeople lean by their style, ~3 +- 2 deg).
@@ -50,6 +52,7 @@
 #include <body_gait_model/gait_poses_file.h>
 #include <body_scan_driver/atomic_file.h>
 #include <body_scan_driver/sim/bvh_body.h>
+#include <body_scan_driver/sim/scene.h>
 #include <body_scan_driver/tools/command_line.h>
 #include <body_scan_driver/tools/package_file.h>
 #include <body_scan_merge/ply_writer.h>
@@ -75,7 +78,7 @@ constexpr double kPi = 3.14159265358979323846;
 struct Settings {
   int subjects = 10;
   int people = 0;  // > 0: simulatedPeople instead of simulatedSubjects
-  std::string out, only, clouds, models_out, picture, bvh_map;
+  std::string out, only, clouds, clouds_from, models_out, picture, bvh_map;
   double abduction_deg = -1;
   double lean_deg = -100;  // > -90: every simulated body's forward torso lean (deg)
   double dark_albedo = -1;
@@ -138,6 +141,11 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& settings) {
   app.add_option("--only", settings.only, "one subject, e.g. subject_9");
   app.add_option("--clouds", settings.clouds,
                  "write every case's cloud to DIR/<subject>_pose<k>.ply (world frame)");
+  app.add_option("--clouds-from", settings.clouds_from,
+                 "read every case's cloud from DIR/<subject>_pose<k>.ply (written by --clouds "
+                 "with the same cases and scanner options) instead of scanning it: refits in "
+                 "seconds")
+      ->check(CLI::ExistingDirectory);
   app.add_option("--bvh", settings.bvh_files,
                  "[PERSON=]WALK.bvh,...: motion-capture walks instead of simulated subjects "
                  "(scanned with the full scanner; PERSON defaults to the file name up to its "
@@ -382,15 +390,27 @@ body_gait_model::eval::SampledBody scanCase(const Case& each, const Settings& se
   auto spec = each.spec;
   if (settings.dark_albedo >= 0)
     spec.materials.hair.albedo = spec.materials.clothing.albedo = settings.dark_albedo;
-  body_gait_model::eval::SampledBody body =
-      settings.full_scanner ? body_gait_model::eval::scanBodyWithFullScanner(spec, settings.scanner)
-                            : body_gait_model::eval::sampleBody(spec, settings.rig);
+  const std::string cloud_name = spec.name + "_pose" + std::to_string(each.pose) + ".ply";
+  body_gait_model::eval::SampledBody body;
+  if (!settings.clouds_from.empty()) {
+    // The truth as a scan would place it; the points from the file.
+    body_scan_driver::sim::Scene scene;
+    body.spec = body_gait_model::eval::addSimulatedBody(spec, settings.scanner.body, scene);
+    body.skeleton = scene.skeleton();
+    const std::vector<float> xyzrgb =
+        body_scan_merge::readPly(settings.clouds_from + "/" + cloud_name);
+    for (size_t i = 0; i + 4 <= xyzrgb.size(); i += 4)
+      body.points.emplace_back(xyzrgb[i], xyzrgb[i + 1], xyzrgb[i + 2]);
+  } else {
+    body = settings.full_scanner
+               ? body_gait_model::eval::scanBodyWithFullScanner(spec, settings.scanner)
+               : body_gait_model::eval::sampleBody(spec, settings.rig);
+  }
   if (!settings.clouds.empty()) {
     std::vector<float> xyz;
     for (const Eigen::Vector3d& p : body.points)
       xyz.insert(xyz.end(), {float(p.x()), float(p.y()), float(p.z())});
-    const std::string path =
-        settings.clouds + "/" + spec.name + "_pose" + std::to_string(each.pose) + ".ply";
+    const std::string path = settings.clouds + "/" + cloud_name;
     body_scan_merge::writePly(path, xyz.data(), body.points.size(), 3, -1);
   }
   return body;
