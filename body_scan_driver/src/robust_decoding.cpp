@@ -142,6 +142,12 @@ size_t fitLocalPlanes(StripeImage& stripes, const std::vector<cv::Mat>& frames,
     for (int u = 0; u < cols; ++u) inlier(v, u) = weight(v, u) > 0 ? 1.0 : 0.0;
   const cv::Mat1d inliers = windowSum(inlier, window);
   const double redecide_share = robust.redecide_contrast_share * robust.redecide_contrast_share;
+  // Outliers of the last fit and how many of them each 3x3 neighbourhood holds.
+  cv::Mat1d outlier(rows, cols, 0.0);
+  for (int v = 0; v < rows; ++v)
+    for (int u = 0; u < cols; ++u)
+      outlier(v, u) = std::abs(measured(v, u) - fitted(v, u)) > robust.fit_outlier ? 1.0 : 0.0;
+  const cv::Mat1d outliers_around = windowSum(outlier, cv::Size(3, 3));
   size_t rejected = 0;
   for (int v = 0; v < rows; ++v)
     for (int u = 0; u < cols; ++u) {
@@ -149,13 +155,14 @@ size_t fitLocalPlanes(StripeImage& stripes, const std::vector<cv::Mat>& frames,
       float& coordinate = stripes.coordinate(v, u);
       coordinate = fitted(v, u);
       const double deviation = std::abs(coordinate - measured(v, u));
-      // An outlier of its own window is re-decided only if its code is much less reliable than
-      // its neighbours' (a dark pixel among bright ones); a pixel as bright as they are is
-      // another surface (a depth edge): blending it would make a flying point. A re-decision
+      // An outlier of its own window is re-decided if it is isolated (a wrong code) or its code
+      // is much less reliable than its neighbours' (a dark pixel among bright ones); a run of
+      // outliers as bright as their neighbours is another surface (a depth edge): blending it
+      // would make flying points. A re-decision
       // moves a code by a few stripes at most (max_neighbour_deviation); farther, the window's
       // inliers lie off to one side and their plane extrapolates.
       const bool reliable_outlier =
-          deviation > robust.fit_outlier &&
+          deviation > robust.fit_outlier && outliers_around(v, u) > robust.max_isolated_outliers &&
           measured_weight(v, u) >= redecide_share * weight_sum(v, u) / std::max(1.0, inliers(v, u));
       if (!reliable_outlier && deviation <= robust.max_neighbour_deviation) continue;
       coordinate = std::numeric_limits<float>::quiet_NaN();

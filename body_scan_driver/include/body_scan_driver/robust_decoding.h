@@ -40,9 +40,11 @@ struct RobustDecoding {
   // Pixels farther than this (stripes) from the fit are left out of the refit (fit_passes fits).
   double fit_outlier = 0.75;
   int fit_passes = 3;
-  // Such an outlier takes the fit only if its contrast is below this share of its window's
-  // inliers' (rms): a dark pixel's code among bright ones. A brighter outlier is another surface
-  // (a depth edge) and is left invalid rather than blended.
+  // Such an outlier takes the fit (a wrong code re-decided) if its 3x3 neighbourhood holds at
+  // most max_isolated_outliers outliers (itself included), or if its contrast is below
+  // redecide_contrast_share of its window's inliers' (rms): a dark pixel among bright ones.
+  // Other outliers are another surface (a depth edge) and are left invalid rather than blended.
+  int max_isolated_outliers = 3;
   double redecide_contrast_share = 0.5;
 
   // The StripeDecoder parameters of this decoding (base as is when not enabled).
