@@ -186,9 +186,14 @@ SAN_FLAGS := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined \
 	-fno-sanitize-recover=undefined -fsanitize=fuzzer-no-link -shared-libasan
 ASAN_RT    = $(shell $(CLANG_CXX) -print-file-name=libclang_rt.asan-x86_64.so)
 # detect_leaks=0: ROS's and python's own allocations at exit are not ours to chase.
-SAN_ENV    = LD_PRELOAD=$(ASAN_RT) \
+# The tests' time limits and waits (rostest time-limit, the launch tests' timeouts) are
+# stretched by BODY_SCAN_TEST_TIME_SCALE: sanitized nodes run several times slower.
+SAN_TIME_SCALE ?= 4
+SAN_ENV    = BODY_SCAN_TEST_TIME_SCALE=$(SAN_TIME_SCALE) LD_PRELOAD=$(ASAN_RT) \
 	ASAN_OPTIONS=detect_leaks=0:verify_asan_link_order=0:abort_on_error=1:log_path=$(SAN_DIR)/reports/asan \
 	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:log_path=$(SAN_DIR)/reports/ubsan
+# ccache, when installed, keeps a rebuild of a sanitizer tree short (a first build is long).
+CCACHE_LAUNCHER := $(if $(shell command -v ccache),-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 # configure (+ build $(1), a list of targets) of a sanitizer build dir $(2) with flags $(3)
 define san_build
 	@mkdir -p $(2)/devel/lib/python3/dist-packages && touch $(2)/CATKIN_IGNORE
@@ -196,7 +201,7 @@ define san_build
 	  -DCMAKE_CXX_COMPILER=$(CLANG_CXX) -DCMAKE_C_FLAGS="$(3)" -DCMAKE_CXX_FLAGS="$(3)" \
 	  -DCMAKE_EXE_LINKER_FLAGS="$(3)" -DCMAKE_SHARED_LINKER_FLAGS="$(3)" \
 	  -DPYTHON_EXECUTABLE=$(PY) -DCATKIN_DEVEL_PREFIX=$(2)/devel -DCMAKE_INSTALL_PREFIX=$(2)/install \
-	  -DCATKIN_ENABLE_TESTING=ON \
+	  -DCATKIN_ENABLE_TESTING=ON $(CCACHE_LAUNCHER) \
 	  -DCMAKE_DISABLE_FIND_PACKAGE_benchmark=ON $(4) >$(2)/configure.log
 	cmake --build $(2) -j$(JOBS) $(if $(1),--target $(1))
 endef

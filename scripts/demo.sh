@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The main job (make demo): a gait gallery of 6 simulated people is enrolled from their walks
 # (walk 0 of each: the 4 representative gait poses of thesis 5.3 scanned with the 12-pair
-# simulation, fitted, reconstructed to the eta1/eta2 training cycles), then one of them walks
-# through the ROS pipeline on ANOTHER walk (person_003, walk 1): /body_scan/capture_walk scans
+# simulation, fitted together as the live walk is, reconstructed to the eta1/eta2 training
+# cycles), then one of them walks through the ROS pipeline on ANOTHER walk (person_003, walk 1):
+# /body_scan/capture_walk scans
 # the 4 poses in turn (a simulated subject takes each pose at the coordinator's prompt), the
 # merged cloud of the first pose is written to build/demo/full_scan.ply and .pcd, its scan
 # report is printed, the fitter fits the walk and gait_id_node identifies it: the walk-level
@@ -10,6 +11,8 @@
 #   SCENE=path/to/scene.yaml scripts/demo.sh    (one scan of another scene; likely unknown)
 #   DEMO_PERSON=0..5 scripts/demo.sh            (which enrolled person walks through; 6..: a
 #                                                stranger)
+#   DEMO_BODY=mesh scripts/demo.sh              (the people as the skinned mesh human instead of
+#                                                ellipsoids: enrolled and scanned live)
 #   LAUNCH_ARGS="outlier_removal:=true voxel_leaf:=0.002" scripts/demo.sh  (full_scanner args)
 set -euo pipefail
 export PATH=/usr/bin:$PATH
@@ -23,6 +26,7 @@ export ROS_MASTER_URI="http://localhost:$port"
 export ROS_HOME="$root/build/ros_home"
 demo="$root/build/demo"
 person=${DEMO_PERSON:-3}
+body=${DEMO_BODY:-ellipsoid}
 mkdir -p "$demo" "$ROS_HOME"
 rm -f "$demo/full_scan.ply" "$demo/full_scan.pcd" "$demo/identity.txt"
 
@@ -33,9 +37,9 @@ scene_args=(--scene-out "$demo/scene.yaml" --scene-person "$person" --scene-tria
 walk_args=(walk_scenes:="$demo/walk")
 [ -n "${SCENE:-}" ] && scene_args=() && walk_args=()
 echo "== enrolling 6 simulated people in $gallery from their walks: walk 0 of each, its 4 poses"
-echo "   scanned with the 12-pair simulation and fitted (cached in $demo/fit_cache: a re-run"
-echo "   takes seconds)"
-rosrun body_gait_id enroll_simulated_people --database "$gallery" --people 6 \
+echo "   scanned with the 12-pair simulation and fitted together, as the live walk is (cached in"
+echo "   $demo/fit_cache: a re-run takes seconds); body: $body"
+rosrun body_gait_id enroll_simulated_people --database "$gallery" --people 6 --body "$body" \
   --cache "$demo/fit_cache" "${scene_args[@]}" 2> "$demo/enroll.log" ||
   { tail -n 20 "$demo/enroll.log" >&2; echo "demo failed: enrolment" >&2; exit 1; }
 scene=${SCENE:-$demo/scene.yaml}

@@ -1,6 +1,7 @@
 // A small version of evaluate_gait_id end to end (3 people, the ray-cast sampler, 2 walks each:
-// 24 scans and fits): the thesis and cross-walk protocols' measured rates, the cache, and the
-// PCA / LDA rows. Asserts on what was measured (README: evaluate_gait_id), with margins for
+// 24 scans, each walk's 4 fitted together as the body fitter fits a live walk): the thesis and
+// cross-walk protocols' measured rates, the cache, the single-scan fit level, and the PCA / LDA
+// rows. Asserts on what was measured (README: evaluate_gait_id), with margins for
 // the fitter's run-to-run stability only.
 #include <body_gait_id/eval/gait_id_evaluation.h>
 #include <body_gait_model/eval/gait_subjects.h>
@@ -36,8 +37,8 @@ struct SmallRun {
     fs::remove_all(cache);
     walks = fitWalks(people, 2, options, &first);
     cached_walks = fitWalks(people, 2, options, &second);  // every fit from the cache
-    fs::remove_all(cache);
   }
+  ~SmallRun() { fs::remove_all(cache); }
 };
 
 const SmallRun& smallRun() {
@@ -66,9 +67,34 @@ TEST(GaitIdEvaluation, EveryPoseIsScannedFittedAndCached) {
     for (int trial = 0; trial < 2; ++trial) {
       ASSERT_TRUE(run.walks[person][trial].has_value());
       ASSERT_TRUE(run.cached_walks[person][trial].has_value());
-      for (int pose = 0; pose < 4; ++pose)
+      for (int pose = 0; pose < 4; ++pose) {
         EXPECT_EQ((*run.walks[person][trial])[pose].q, (*run.cached_walks[person][trial])[pose].q);
+        // The walk-level fit (the default): one body for the walk's 4 scans.
+        EXPECT_EQ((*run.walks[person][trial])[pose].r, (*run.walks[person][trial])[0].r);
+        EXPECT_EQ((*run.walks[person][trial])[pose].shape.proximal_radius,
+                  (*run.walks[person][trial])[0].shape.proximal_radius);
+      }
     }
+}
+
+// FitLevel::kScan fits each scan alone (fitBody): one body per scan, cached apart from the
+// walk-level fits of the same scans (the small run's cache holds those). Person 0's walk 0 only.
+TEST(GaitIdEvaluation, SingleScanFitLevelFitsEachScanAloneAndIsCachedApart) {
+  const SmallRun& run = smallRun();
+  PersonSource first_person = run.people;
+  first_person.names.resize(1);
+  ScanOptions options = run.options;
+  options.fit = FitLevel::kScan;
+  FitSummary first, again;
+  const FittedWalks scan_fits = fitWalks(first_person, 1, options, &first);
+  fitWalks(first_person, 1, options, &again);
+  EXPECT_EQ(first.scans, 4);
+  EXPECT_EQ(first.cached, 0);  // the walk-level entries are not the single scans'
+  EXPECT_EQ(again.cached, 4);
+  ASSERT_TRUE(scan_fits[0][0].has_value());
+  const body_gait_model::RepresentativePoses& scans = *scan_fits[0][0];
+  EXPECT_NE(scans[0].r, scans[1].r);  // a body per scan
+  EXPECT_NE(scans[0].r, (*run.walks[0][0])[0].r);
 }
 
 TEST(GaitIdEvaluation, ThesisProtocolOnThreePeople) {
@@ -80,13 +106,14 @@ TEST(GaitIdEvaluation, ThesisProtocolOnThreePeople) {
     ASSERT_EQ(r.metrics.cmc.size(), 3u) << r.name;
     EXPECT_DOUBLE_EQ(r.metrics.cmc.back().rate, 1.0) << r.name;  // rank 3 of 3 finds everyone
   }
-  // Measured (seed 1): 48 / 48 for both 3D rows; pose error 0.42 plain, 0.08 cyclic.
+  // Measured (seed 1, walk-level fits): 48 / 48 for both 3D rows; pose error 0.54 plain, 0.21
+  // cyclic (single-scan fits: 0.42, 0.08).
   const RecognitionMetrics& both = row(results, "3D dynamic+static").metrics;
   const RecognitionMetrics& dynamic = row(results, "3D dynamic").metrics;
   EXPECT_EQ(both.identification.count, 48);
   EXPECT_EQ(dynamic.identification.count, 48);
-  EXPECT_LE(dynamic.average_pose_error, 0.5);
-  EXPECT_LE(dynamic.average_cyclic_pose_error, 0.2);
+  EXPECT_LE(dynamic.average_pose_error, 0.6);
+  EXPECT_LE(dynamic.average_cyclic_pose_error, 0.25);
   // With the representative frames (in the gallery too) the dynamic probes of frames 1, 6, 11,
   // 16 match their own training pose: pose error 0 there.
   std::vector<FeatureRow> rows_3d = thesisRows();
@@ -100,17 +127,15 @@ TEST(GaitIdEvaluation, ThesisProtocolOnThreePeople) {
 TEST(GaitIdEvaluation, CrossWalkProtocolOnThreePeople) {
   const std::vector<NamedMetrics> results = crossWalkProtocol(smallRun().walks, thesisRows());
   print(results);
-  // Another walk is much harder than the thesis protocol: measured (seed 1) 3D dynamic 37 / 60
-  // with the legs tracked apart slice by slice (41 / 60 split at the hips' centre, 48 / 60 before
-  // the walking joint ranges; the sampler's fits of 20 people are as accurate with either split,
-  // 19.4 vs 19.5 mm: a few probes of 3 people move), dynamic+static 40 / 60 (the fitted lengths
-  // vary between walks about as much as between people); 95 % at 50 people is not reached
-  // (docs/RESULTS.md, "Recognition").
+  // Another walk is much harder than the thesis protocol: measured (seed 1, walk-level fits) 3D
+  // dynamic 52 / 60, dynamic+static 33 / 60 (single-scan fits: 37 / 60 and 40 / 60; the fitted
+  // lengths vary between walks about as much as between 3 people: a few probes move). The
+  // 50-person figures are in docs/RESULTS.md, "Recognition".
   const RecognitionMetrics& both = row(results, "3D dynamic+static").metrics;
   const RecognitionMetrics& dynamic = row(results, "3D dynamic").metrics;
   EXPECT_EQ(both.enrolled_probes, 60);  // walk 1's eta3, all 20 frames, of 3 people
-  EXPECT_GE(dynamic.identification.rate, 0.6);
-  EXPECT_GE(both.identification.rate, 0.6);
+  EXPECT_GE(dynamic.identification.rate, 0.8);
+  EXPECT_GE(both.identification.rate, 0.5);
   EXPECT_LT(both.identification.rate, 1.0);  // different walks: not the thesis protocol's 100 %
   EXPECT_DOUBLE_EQ(both.cmc.back().rate, 1.0);
   ASSERT_TRUE(both.open_set.has_value());  // 1 person enrolled, 2 to reject
@@ -119,25 +144,24 @@ TEST(GaitIdEvaluation, CrossWalkProtocolOnThreePeople) {
 }
 
 TEST(GaitIdEvaluation, SingleScanProbesAreTheWalksOwnFits) {
-  // The probes are walk 1's 4 fits themselves, each with its own body (what gait_id_node sees
-  // of a person scanned once), at their true frames 1, 6, 11, 16; the gallery's walks take the
-  // median body.
+  // The probes are walk 1's 4 fits themselves (what gait_id_node identifies of each scan of a
+  // walk), at their true frames 1, 6, 11, 16; the gallery's walks take the median body.
   const FittedWalks walks = withMedianBody(smallRun().walks, 1);
   const std::vector<FeatureRow> rows = thesisRows();
   const ProbeSet probes = identifyProbes(walks, rows[1], 0, 1, 3, ProbeFrames::kSingleScans);
   ASSERT_EQ(probes.probes.size(), 12u);  // 3 people x 4 scans
   for (std::size_t i = 0; i < probes.probes.size(); ++i)
     EXPECT_EQ(probes.probes[i].true_frame, body_gait_model::kRepresentativeFrames[i % 4]);
-  // Walk 1 kept each fit's own lengths: its scans differ from each other, unlike eta3's frames.
+  // Walk 1 kept its fits' lengths (a walk-level fit's: one body for its 4 scans, so the median
+  // body of walk 0 is its fits' body too).
   const body_gait_model::RepresentativePoses& raw = *smallRun().walks[0][1];
   EXPECT_EQ((*walks[0][1])[0].r, raw[0].r);
-  EXPECT_NE((*walks[0][1])[0].r, (*walks[0][1])[1].r);
-  EXPECT_NE((*walks[0][0])[0].r, (*smallRun().walks[0][0])[0].r);  // walk 0: median body
+  EXPECT_EQ((*walks[0][0])[2].r, (*smallRun().walks[0][0])[2].r);
   const std::vector<NamedMetrics> results =
       crossWalkProtocol(walks, rows, {}, false, 1, ProbeFrames::kSingleScans);
   print(results);
-  // Measured (3 people, seed 1): 3D dynamic 10 / 12, dynamic+static 5 / 12 (chance 4 / 12):
-  // one fit's lengths are noisier than a walk's median (docs/RESULTS.md, single-scan probes).
+  // Measured (3 people, seed 1, walk-level fits): 3D dynamic 10 / 12, dynamic+static 7 / 12
+  // (chance 4 / 12; single-scan fits: 10 / 12 and 5 / 12).
   const RecognitionMetrics& both = row(results, "3D dynamic+static single scans").metrics;
   const RecognitionMetrics& dynamic = row(results, "3D dynamic single scans").metrics;
   EXPECT_EQ(both.enrolled_probes, 12);

@@ -18,7 +18,7 @@ import unittest
 import rosgraph
 import rostest
 
-from test_record_replay import wait_until  # same directory
+from test_record_replay import TIME_SCALE, wait_until  # same directory
 
 POLES = ("pole_a", "pole_b", "pole_c")
 PAIRS = [f"{pole}/pair_{i}" for pole in POLES for i in range(1, 5)]
@@ -61,7 +61,7 @@ class MasterRestart(unittest.TestCase):
     @staticmethod
     def wait(predicate, timeout, period=0.2):
         """Polls a condition only the master can answer (no event tells us)."""
-        deadline = time.monotonic() + timeout
+        deadline = time.monotonic() + timeout * TIME_SCALE
         while time.monotonic() < deadline:
             try:
                 if predicate():

@@ -38,7 +38,7 @@ class Latest:
             self.reports[report.header.stamp] = report
 
     def wait(self, scan_id, timeout):
-        deadline = time.time() + timeout
+        deadline = time.time() + timeout * TIME_SCALE
         while time.time() < deadline and not rospy.is_shutdown():
             with self.lock:
                 for stamp, report in self.reports.items():
@@ -55,10 +55,14 @@ def xyz(cloud):
     return [struct.unpack_from("<3f", data, i) for i in range(0, len(data), step)]
 
 
+# Sanitizer builds run several times slower: `make sanitize` stretches every wait by this.
+TIME_SCALE = float(os.environ.get("BODY_SCAN_TEST_TIME_SCALE", "1"))
+
+
 def wait_until(cond, predicate, timeout, poll=0.05):
     """Waits until predicate() holds, woken by cond's notifications and every `poll` s: a
     subscriber's connection count changes without any notification."""
-    deadline = time.monotonic() + timeout
+    deadline = time.monotonic() + timeout * TIME_SCALE
     with cond:
         while not predicate():
             remaining = deadline - time.monotonic()
@@ -70,7 +74,7 @@ def wait_until(cond, predicate, timeout, poll=0.05):
 
 def wait_for_subscriber(topic, node_prefix, timeout):
     master = rospy.get_master()
-    deadline = time.time() + timeout
+    deadline = time.time() + timeout * TIME_SCALE
     while time.time() < deadline:
         _, _, state = master.getSystemState()
         for name, nodes in state[1]:

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Walk sessions end to end on the simulated full scanner (full_scanner.launch walk_scenes:=...).
 
-The gallery: simulated people 0-5 enrolled from walk 0 (their full-scanner fits are the test
-data in data/gallery_fits, so enrolment takes no scans). The walker: person ~person on walk 1,
-the 4 poses taken at the coordinator's prompts (simulated_walker). /body_scan/capture_walk
+The gallery: simulated people 0-5 enrolled from walk 0 (their full-scanner walk-level fits are
+the test data in data/gallery_fits, so enrolment takes no scans). The walker: person ~person on
+walk 1, the 4 poses taken at the coordinator's prompts (simulated_walker). /body_scan/capture_walk
 scans them; the fitter fits the walk, gait_id_node identifies it. ~enrolled: the walk must be
 identified as that person and accepted; otherwise (a stranger) it must be rejected. ~replay:
 the walk is also recorded (record.launch) and replayed (replay.launch under /replay with the
@@ -20,7 +20,7 @@ import unittest
 import rospy
 import rostest
 
-from test_record_replay import wait_for_subscriber  # same directory
+from test_record_replay import TIME_SCALE, wait_for_subscriber  # same directory
 from body_scan_msgs.msg import Identity, WalkProgress
 from body_scan_msgs.srv import CaptureWalk, ListSubjects, RemoveSubject
 
@@ -39,7 +39,7 @@ class Identities:
             self.received.append(identity)
 
     def walk(self, walk_id, timeout):
-        deadline = time.time() + timeout
+        deadline = time.time() + timeout * TIME_SCALE
         while time.time() < deadline and not rospy.is_shutdown():
             with self.lock:
                 for identity in self.received:

@@ -10,6 +10,7 @@
 #include <body_scan_driver/sim/bvh_body.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -39,6 +40,22 @@ std::string scannerSettings(const ScanOptions& options) {
   return text + body;
 }
 
+// The scanned cloud of one pose (sampler or full scanner; not kTruth).
+body_gait_model::Cloud scanBody(const body_scan_driver::sim::HumanBodySpec& spec,
+                                const ScanOptions& options) {
+  if (options.scanner == ScannerKind::kFull) {
+    body_gait_model::eval::FullScannerOptions full;
+    full.body = options.body;
+    return body_gait_model::eval::scanBodyWithFullScanner(spec, full).points;
+  }
+  body_gait_model::eval::ScanRig rig;
+  rig.columns = options.sampler_columns;
+  rig.rows = options.sampler_columns * 13 / 16;  // the rig's default aspect (320 x 260)
+  rig.noise_sigma = options.sampler_noise;
+  rig.body = options.body;
+  return body_gait_model::eval::sampleBody(spec, rig).points;
+}
+
 CachedFit scanAndFit(const body_scan_driver::sim::HumanBodySpec& spec, const ScanOptions& options) {
   if (options.scanner == ScannerKind::kTruth) {
     if (options.body == body_gait_model::eval::BodyKind::kEllipsoid)
@@ -47,21 +64,41 @@ CachedFit scanAndFit(const body_scan_driver::sim::HumanBodySpec& spec, const Sca
     const auto placed = body_gait_model::eval::addSimulatedBody(spec, options.body, scene);
     return {body_gait_model::eval::modelFromSkeleton(scene.skeleton(), placed.body), false, 0};
   }
-  body_gait_model::eval::SampledBody body;
-  if (options.scanner == ScannerKind::kFull) {
-    body_gait_model::eval::FullScannerOptions full;
-    full.body = options.body;
-    body = body_gait_model::eval::scanBodyWithFullScanner(spec, full);
-  } else {
-    body_gait_model::eval::ScanRig rig;
-    rig.columns = options.sampler_columns;
-    rig.rows = options.sampler_columns * 13 / 16;  // the rig's default aspect (320 x 260)
-    rig.noise_sigma = options.sampler_noise;
-    rig.body = options.body;
-    body = body_gait_model::eval::sampleBody(spec, rig);
+  const body_gait_model::Cloud cloud = scanBody(spec, options);
+  const body_gait_model::BodyFit fit = body_gait_model::fitBody(cloud);
+  return {fit.model, fit.quality.low_quality, static_cast<int>(cloud.size())};
+}
+
+// A walk's 4 poses scanned and fitted together (fitWalk: one body for the walk), as the body
+// fitter fits a live walk. A scan that throws fails its pose (`errors`) and leaves the walk
+// unfitted; a walk fit that throws (a cloud that is no body at all) fails all 4 poses.
+std::array<std::optional<CachedFit>, 4> scanAndFitWalk(
+    const std::array<body_scan_driver::sim::HumanBodySpec, 4>& specs, const ScanOptions& options,
+    std::array<std::string, 4>& errors) {
+  std::array<std::optional<CachedFit>, 4> fits;
+  std::vector<body_gait_model::Cloud> clouds;
+  std::vector<int> scanned;  // pose index (0-3) of each cloud
+  for (int k = 0; k < 4; ++k) {
+    try {
+      clouds.push_back(scanBody(specs[k], options));
+      scanned.push_back(k);
+    } catch (const std::exception& e) {
+      errors[k] = e.what();
+    }
   }
-  const body_gait_model::BodyFit fit = body_gait_model::fitBody(body.points);
-  return {fit.model, fit.quality.low_quality, static_cast<int>(body.points.size())};
+  if (scanned.size() < 4) {  // a walk with a pose missing is left out anyway
+    for (int k : scanned) errors[k] = "another pose of the walk could not be scanned";
+    return fits;
+  }
+  try {
+    const body_gait_model::WalkFit walk = body_gait_model::fitWalk(clouds);
+    for (std::size_t i = 0; i < scanned.size(); ++i)
+      fits[scanned[i]] = CachedFit{walk.scans[i].model, walk.scans[i].quality.low_quality,
+                                   static_cast<int>(clouds[i].size())};
+  } catch (const std::exception& e) {
+    for (int k : scanned) errors[k] = std::string("walk fit: ") + e.what();
+  }
+  return fits;
 }
 
 // The three cycles of 5.8.3 from one walk's representative poses: eta1, eta2 (training) and
@@ -199,19 +236,20 @@ std::string transformSuffix(const TransformOptions& transform) {
 
 FittedWalks fitWalks(const PersonSource& people, int trials, const ScanOptions& options,
                      FitSummary* summary) {
-  struct Job {
-    int person, trial, pose;
+  struct Job {  // one walk
+    int person, trial;
   };
   std::vector<Job> jobs;
   for (int person = 0; person < static_cast<int>(people.names.size()); ++person)
-    for (int trial = 0; trial < trials; ++trial)
-      for (int pose = 1; pose <= 4; ++pose) jobs.push_back({person, trial, pose});
+    for (int trial = 0; trial < trials; ++trial) jobs.push_back({person, trial});
+  const bool walk_level = options.fit == FitLevel::kWalk && options.scanner != ScannerKind::kTruth;
 
   const FitCache cache(options.cache_folder);
   const std::string scanner = scannerSettings(options);
-  std::vector<std::optional<CachedFit>> fits(jobs.size());
-  std::vector<std::string> errors(jobs.size());
-  std::vector<char> from_cache(jobs.size(), 0);
+  // Pose k of walk j is entry 4 j + k.
+  std::vector<std::optional<CachedFit>> fits(4 * jobs.size());
+  std::vector<std::string> errors(fits.size());
+  std::vector<char> from_cache(fits.size(), 0);
   std::atomic<std::size_t> next{0};
   std::atomic<int> done{0};
   std::mutex output;
@@ -220,39 +258,71 @@ FittedWalks fitWalks(const PersonSource& people, int trials, const ScanOptions& 
   auto work = [&] {
     for (std::size_t j = next++; j < jobs.size(); j = next++) {
       const Job& job = jobs[j];
-      // Heading within +-46 deg of the rig's front, varied per case as the scanner sees people;
-      // from (person, trial, pose) alone, so runs with other counts share the cache.
-      const int heading_case = 4 * job.person + (job.pose - 1) + 2 * job.trial;
-      const body_scan_driver::sim::HumanBodySpec spec = people.spec(
-          job.person, job.pose, job.trial, body_gait_model::eval::fullScannerHeading(heading_case));
-      const std::string key = scanKey(spec, scanner);
-      const auto job_start = Clock::now();
-      if ((fits[j] = cache.load(key))) {
-        from_cache[j] = 1;
-      } else {
-        try {
-          fits[j] = scanAndFit(spec, options);
-          cache.store(key, *fits[j]);
-        } catch (const body_scan_driver::FileWriteError& e) {
-          std::lock_guard<std::mutex> lock(output);
-          write_error = e.what();
-        } catch (const std::exception& e) {
-          errors[j] = e.what();  // the fitter refused the cloud: a failed pose
-        }
+      std::array<body_scan_driver::sim::HumanBodySpec, 4> specs;
+      std::array<std::string, 4> keys;
+      for (int k = 0; k < 4; ++k) {
+        // Heading within +-46 deg of the rig's front, varied per case as the scanner sees
+        // people; from (person, trial, pose) alone, so runs with other counts share the cache.
+        const int heading_case = 4 * job.person + k + 2 * job.trial;
+        specs[k] = people.spec(job.person, k + 1, job.trial,
+                               body_gait_model::eval::fullScannerHeading(heading_case));
+        keys[k] = scanKey(specs[k], scanner);
       }
-      const int finished = ++done;
-      if (options.progress) {
-        const double seconds = std::chrono::duration<double>(Clock::now() - job_start).count();
-        std::string status = "FAILED: " + errors[j];
-        if (from_cache[j])
-          status = "cached";
-        else if (fits[j])
-          status = std::to_string(fits[j]->points) + " points, " +
-                   std::to_string(static_cast<int>(1000 * seconds)) + " ms" +
-                   (fits[j]->low_quality ? ", low quality" : "");
+      if (walk_level) {  // a pose's walk-level fit depends on all 4 scans of its walk
+        std::string walk = " walk fit of";
+        for (const std::string& key : keys) walk += " " + key;
+        for (int k = 0; k < 4; ++k) keys[k] = scanKey(specs[k], scanner + walk);
+      }
+      const auto job_start = Clock::now();
+      try {
+        for (int k = 0; k < 4; ++k)
+          if ((fits[4 * j + k] = cache.load(keys[k]))) from_cache[4 * j + k] = 1;
+        const bool all_cached =
+            std::all_of(from_cache.begin() + 4 * j, from_cache.begin() + 4 * j + 4,
+                        [](char cached) { return cached != 0; });
+        if (walk_level && !all_cached) {
+          std::array<std::string, 4> walk_errors;
+          const auto walk_fits = scanAndFitWalk(specs, options, walk_errors);
+          for (int k = 0; k < 4; ++k) {
+            fits[4 * j + k] = walk_fits[k];
+            from_cache[4 * j + k] = 0;
+            errors[4 * j + k] = walk_errors[k];
+            if (walk_fits[k]) cache.store(keys[k], *walk_fits[k]);
+          }
+        } else if (!walk_level) {
+          for (int k = 0; k < 4; ++k) {
+            if (from_cache[4 * j + k]) continue;
+            try {
+              fits[4 * j + k] = scanAndFit(specs[k], options);
+            } catch (const std::exception& e) {
+              errors[4 * j + k] = e.what();  // the fitter refused the cloud: a failed pose
+              continue;
+            }
+            cache.store(keys[k], *fits[4 * j + k]);
+          }
+        }
+      } catch (const body_scan_driver::FileWriteError& e) {
         std::lock_guard<std::mutex> lock(output);
-        std::fprintf(stderr, "[%d/%zu] %s walk %d pose %d: %s\n", finished, jobs.size(),
-                     people.names[job.person].c_str(), job.trial, job.pose, status.c_str());
+        write_error = e.what();
+      }
+      if (options.progress) {
+        // A walk's poses share its time (a walk-level fit is one computation).
+        const double ms =
+            1000 * std::chrono::duration<double>(Clock::now() - job_start).count() / 4;
+        std::lock_guard<std::mutex> lock(output);
+        for (int k = 0; k < 4; ++k) {
+          const std::size_t i = 4 * j + k;
+          std::string status = "FAILED: " + errors[i];
+          if (from_cache[i])
+            status = "cached";
+          else if (fits[i])
+            status = std::to_string(fits[i]->points) + " points, " +
+                     std::to_string(static_cast<int>(ms)) + " ms" +
+                     (walk_level ? " (walk fit)" : "") +
+                     (fits[i]->low_quality ? ", low quality" : "");
+          std::fprintf(stderr, "[%d/%zu] %s walk %d pose %d: %s\n", ++done, fits.size(),
+                       people.names[job.person].c_str(), job.trial, k + 1, status.c_str());
+        }
       }
     }
   };
@@ -266,20 +336,21 @@ FittedWalks fitWalks(const PersonSource& people, int trials, const ScanOptions& 
                     std::vector<std::optional<body_gait_model::RepresentativePoses>>(trials));
   std::vector<std::vector<int>> missing(people.names.size(), std::vector<int>(trials, 0));
   FitSummary local;
-  for (std::size_t j = 0; j < jobs.size(); ++j) {
-    const Job& job = jobs[j];
+  for (std::size_t i = 0; i < fits.size(); ++i) {
+    const Job& job = jobs[i / 4];
+    const int pose = static_cast<int>(i % 4) + 1;
     ++local.scans;
-    local.cached += from_cache[j];
-    if (!fits[j]) {
+    local.cached += from_cache[i];
+    if (!fits[i]) {
       ++local.failed;
       ++missing[job.person][job.trial];
       local.failures.push_back(people.names[job.person] + " walk " + std::to_string(job.trial) +
-                               " pose " + std::to_string(job.pose) + ": " + errors[j]);
+                               " pose " + std::to_string(pose) + ": " + errors[i]);
       continue;
     }
-    local.low_quality += fits[j]->low_quality;
+    local.low_quality += fits[i]->low_quality;
     if (!walks[job.person][job.trial]) walks[job.person][job.trial].emplace();
-    (*walks[job.person][job.trial])[job.pose - 1] = fits[j]->model;
+    (*walks[job.person][job.trial])[pose - 1] = fits[i]->model;
   }
   for (std::size_t person = 0; person < walks.size(); ++person)
     for (int trial = 0; trial < trials; ++trial)

@@ -1,13 +1,16 @@
 // Enrols simulated people into a gallery database and writes a scene file of one of them on
 // another walk: what `make demo` scans live and identifies. Each person's four
-// representative poses (thesis 5.3) of walk --trial are scanned and fitted (fitWalks: the full
-// scanner simulation by default, through the fit cache), then enrolled as the eta1 and eta2
-// training cycles (5.8.3). The scene file holds the floor and the person's body as a `human`
+// representative poses (thesis 5.3) of walk --trial are scanned and fitted together (fitWalks:
+// the full scanner simulation and the walk-level fit by default, as the body fitter fits the live
+// walk the demo identifies; through the fit cache), then enrolled as the eta1 and eta2 training
+// cycles (5.8.3). The scene file holds the floor and the person's body as a `human`
 // object, so full_scanner.launch scans exactly that walk and pose. --walk-body is the enrolment
-// rule of gait_id_node's ~walk_body (default median, as recognition.launch).
+// rule of gait_id_node's ~walk_body (default median, as recognition.launch). --body mesh enrols
+// and writes the skinned mesh human (a `mesh_human` scene object) instead of the ellipsoids.
 //
 //   enroll_simulated_people --database FILE [--people N] [--trial T] [--seed S]
-//       [--scanner full|sampler|truth] [--cache DIR] [--threads T] [--walk-body median|mean]
+//       [--scanner full|sampler|truth] [--body ellipsoid|mesh] [--fit walk|scan] [--cache DIR]
+//       [--threads T] [--walk-body median|mean]
 //       [--scene-out FILE.yaml --scene-person K --scene-trial T --scene-pose P]
 //       [--walk-scenes DIR]   (all 4 poses of that walk: DIR/pose_1.yaml .. pose_4.yaml)
 #include <body_gait_id/enrollment.h>
@@ -29,7 +32,8 @@ namespace {
 using namespace body_gait_id;
 
 // The scene of make demo's walking subject with this person's body instead (same floor).
-std::string sceneFile(const body_scan_driver::sim::HumanBodySpec& person) {
+std::string sceneFile(const body_scan_driver::sim::HumanBodySpec& person,
+                      body_gait_model::eval::BodyKind body) {
   YAML::Node floor;
   floor["type"] = "plane";
   floor["point"] = std::vector<double>{0, 0, 0};
@@ -38,7 +42,7 @@ std::string sceneFile(const body_scan_driver::sim::HumanBodySpec& person) {
   floor["half_extent"] = 2.0;
   YAML::Node scene;
   scene["objects"].push_back(floor);
-  scene["objects"].push_back(body_scan_driver::sim::humanBodyToYaml(person));
+  scene["objects"].push_back(body_gait_model::eval::simulatedBodyToYaml(person, body));
   return "# Written by enroll_simulated_people: " + person.name +
          " (a simulated person) on the floor of the scan volume.\n" + YAML::Dump(scene) + "\n";
 }
@@ -69,6 +73,11 @@ int main(int argc, char** argv) {
   tools::addChoice(app, "--scanner", scan.scanner, body_gait_id::tools::kScannerChoices,
                    "full: the 12-pair scanner simulation; sampler: rays cast from its "
                    "viewpoints; truth: no scan and no fit");
+  tools::addChoice(app, "--body", scan.body, body_gait_id::tools::kBodyChoices,
+                   "the simulated body enrolled and written into the scenes: ellipsoid "
+                   "(default) or the skinned mesh human");
+  tools::addChoice(app, "--fit", scan.fit, body_gait_id::tools::kFitChoices,
+                   body_gait_id::tools::kFitHelp);
   app.add_option("--cache", scan.cache_folder, "fit cache folder (fits are reused)");
   app.add_option("--threads", scan.threads, "scans in parallel")
       ->capture_default_str()
@@ -101,7 +110,8 @@ int main(int argc, char** argv) {
       // Facing the rig's front (heading 0), as the demo's walking subject does.
       body_scan_driver::writeFileAtomically(
           scene_path, sceneFile(body_gait_model::eval::walkingSubject(scene_subject, scene_pose,
-                                                                      scene_trial, 0.0)));
+                                                                      scene_trial, 0.0),
+                                scan.body));
       std::printf("scene: %s walk %d pose %d -> %s\n", scene_subject.name.c_str(), scene_trial,
                   scene_pose, scene_path.c_str());
     }
@@ -110,8 +120,8 @@ int main(int argc, char** argv) {
       for (int pose = 1; pose <= 4; ++pose)
         body_scan_driver::writeFileAtomically(
             walk_scenes + "/pose_" + std::to_string(pose) + ".yaml",
-            sceneFile(
-                body_gait_model::eval::walkingSubject(scene_subject, pose, scene_trial, 0.0)));
+            sceneFile(body_gait_model::eval::walkingSubject(scene_subject, pose, scene_trial, 0.0),
+                      scan.body));
       std::printf("walk scenes: %s walk %d poses 1-4 -> %s/pose_1.yaml .. pose_4.yaml\n",
                   scene_subject.name.c_str(), scene_trial, walk_scenes.c_str());
     }

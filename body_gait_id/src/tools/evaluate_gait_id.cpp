@@ -4,7 +4,7 @@
 // report and a CMC / ROC plot.
 //
 //   evaluate_gait_id [--protocol thesis|cross-walk] [--subjects N] [--scanner sampler|full|truth]
-//                    [--body ellipsoid|mesh]
+//                    [--fit walk|scan] [--body ellipsoid|mesh]
 //                    [--columns C] [--noise SIGMA_M] [--threads T] [--cache DIR] [--seed S]
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
 //                    [--probe-frames interpolated|all|scans] [--per-walk] [--gallery-walks N]
@@ -23,6 +23,9 @@
 //
 // --body mesh scans the skinned mesh human (body_scan_driver/sim/mesh_human.h) posed the same
 // way instead of the ellipsoid body; its fits are cached apart.
+// --fit walk (default) fits a walk's 4 scans together (body_gait_model::fitWalk: one body), as
+// the body fitter fits a live walk, so gallery and probe walks are fitted as gait_id_node's are;
+// --fit scan fits each scan alone (fitBody), as a scan outside a walk.
 // --scanner truth skips scan and fit (models read off the simulator's skeleton): the upper
 // bound of the features on these people, to tell the fitter's share of the errors.
 // --gallery-walks N (cross-walk): enrol every person from walks 0 .. N - 1 (eta1 + eta2 of each),
@@ -42,9 +45,10 @@
 // people. Thesis protocol: the probes are eta3's 16 interpolated frames per person as in the thesis
 // (96 poses of 6 subjects);
 // --probe-frames all adds the 4 representative frames, which are in the training sets too.
-// --probe-frames scans (cross-walk): the probes are walk 1's 4 fits as single scans, each with
-// its own body, as gait_id_node sees a person scanned once; with --noise-seed the noise is
-// learned the same way (single scans against the other walk's median body).
+// --probe-frames scans (cross-walk): the probes are walk 1's 4 fits as single scans, as
+// gait_id_node identifies each scan (with --fit scan each has its own body, as a person scanned
+// once outside a walk); with --noise-seed the noise is learned the same way (single scans
+// against the other walk's median body).
 // Cross-walk: all 20 frames of walk 1 (no overlap with walk 0).
 #include <body_gait_id/eval/gait_id_evaluation.h>
 #include <body_gait_id/feature_noise_file.h>
@@ -105,6 +109,8 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& s) {
   tools::addChoice(app, "--scanner", s.scan.scanner, body_gait_id::tools::kScannerChoices,
                    "full: the 12-pair scanner simulation; sampler: rays cast from its viewpoints; "
                    "truth: no scan and no fit (the features' upper bound)");
+  tools::addChoice(app, "--fit", s.scan.fit, body_gait_id::tools::kFitChoices,
+                   body_gait_id::tools::kFitHelp);
   app.add_option("--columns", s.scan.sampler_columns, "sampler: ray grid per viewpoint")
       ->capture_default_str()
       ->check(tools::atLeast(20));
@@ -113,9 +119,7 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& s) {
   app.add_option("--threads", s.scan.threads, "scans in parallel")
       ->capture_default_str()
       ->check(tools::inRange(1, 16));
-  tools::addChoice(app, "--body", s.scan.body,
-                   {{"ellipsoid", body_gait_model::eval::BodyKind::kEllipsoid},
-                    {"mesh", body_gait_model::eval::BodyKind::kMesh}},
+  tools::addChoice(app, "--body", s.scan.body, body_gait_id::tools::kBodyChoices,
                    "the simulated body: ellipsoid (default) or the skinned mesh human");
   app.add_option("--cache", s.scan.cache_folder, "fit cache folder (fits are reused)");
   app.add_option("--seed", s.seed, "seed of the simulated people")->capture_default_str();
@@ -296,7 +300,7 @@ std::vector<NamedMetrics> evaluate(const Settings& s, const PersonSource& people
   if (s.decomposition) rows = rows_3d = decompositionRows();
   FittedWalks walks = fitWalks(people, trials, s.scan, &summary);
   printLeftOutWalks(walks, people);
-  // Single-scan probes keep each fit's own body; the gallery walks take the median.
+  // Single-scan probes keep their fits' bodies; the gallery walks take the median.
   const bool single_scans = s.probe_frames == ProbeFrames::kSingleScans;
   const ProbeFrames cross_probes = single_scans ? ProbeFrames::kSingleScans : ProbeFrames::kAll;
   if (s.median_body)

@@ -65,6 +65,28 @@ sim::HumanBodySpec addSimulatedBody(const sim::HumanBodySpec& spec, BodyKind kin
   return placed;
 }
 
+YAML::Node simulatedBodyToYaml(const sim::HumanBodySpec& spec, BodyKind kind) {
+  const YAML::Node human = sim::humanBodyToYaml(spec);
+  if (kind == BodyKind::kEllipsoid) return human;
+  const sim::MeshPersonSpec person = meshPersonOf(spec);
+  const sim::MeshHumanFiles files = sim::meshHumanFiles();
+  YAML::Node mesh;
+  mesh["type"] = "mesh_human";
+  mesh["name"] = spec.name;
+  mesh["stature"] = person.stature;
+  mesh["gender"] = person.gender;
+  mesh["age"] = person.age;
+  mesh["bmi"] = person.bmi;
+  mesh["muscle"] = person.muscle;
+  mesh["african"] = person.african;
+  mesh["asian"] = person.asian;
+  mesh["caucasian"] = person.caucasian;
+  for (const char* key : {"position", "pose", "materials"}) mesh[key] = human[key];
+  mesh["model"] = files.model;
+  mesh["retarget_map"] = files.retarget_map;
+  return mesh;
+}
+
 SampledBody sampleBody(const sim::HumanBodySpec& spec, const ScanRig& rig) {
   if (rig.poles < 1 || rig.heights.empty() || rig.columns < 2 || rig.rows < 2)
     throw std::invalid_argument(

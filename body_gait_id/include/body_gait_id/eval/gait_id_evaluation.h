@@ -44,10 +44,16 @@ enum class ScannerKind {
   kTruth,
 };
 
+// How a walk's 4 scans are fitted: together (body_gait_model::fitWalk: one body for the walk, a
+// pose per scan), as the body fitter fits a live walk and so as gait_id_node's walks are fitted,
+// or each alone (fitBody), as a single scan is. The two are cached apart.
+enum class FitLevel { kWalk, kScan };
+
 struct ScanOptions {
   ScannerKind scanner = ScannerKind::kSampler;
-  int sampler_columns = 320;     // ray grid per viewpoint (sampler only)
-  double sampler_noise = 0.002;  // m along the ray (sampler only)
+  FitLevel fit = FitLevel::kWalk;  // kTruth fits nothing, so it ignores this
+  int sampler_columns = 320;       // ray grid per viewpoint (sampler only)
+  double sampler_noise = 0.002;    // m along the ray (sampler only)
   int threads = 2;
   // The simulated body scanned: ellipsoids or the mesh human (body_gait_model::eval::BodyKind).
   body_gait_model::eval::BodyKind body = body_gait_model::eval::BodyKind::kEllipsoid;
@@ -65,8 +71,9 @@ struct FitSummary {
 // pose could not be fitted.
 using FittedWalks = std::vector<std::vector<std::optional<body_gait_model::RepresentativePoses>>>;
 
-// Scans and fits every person's four poses of walks 0 .. trials - 1 on options.threads threads,
-// through the cache. Throws std::runtime_error naming the file when the cache cannot be written.
+// Scans and fits every person's four poses of walks 0 .. trials - 1 (options.fit: a walk's 4
+// together or each alone) on options.threads threads (a walk each), through the cache. Throws
+// std::runtime_error naming the file when the cache cannot be written.
 FittedWalks fitWalks(const PersonSource& people, int trials, const ScanOptions& options,
                      FitSummary* summary = nullptr);
 
@@ -105,8 +112,8 @@ struct TransformOptions {
 
 // Which frames of eta3 probe: the 16 interpolated ones, or all 20 (with the representative
 // frames 1, 6, 11, 16, whose poses s1..s4 are also in eta1 / eta2). kSingleScans: not a
-// reconstructed walk but the probe walk's 4 fits as they are, each with its own body (true
-// frames 1, 6, 11, 16): what the node sees when a person is scanned once.
+// reconstructed walk but the probe walk's 4 fits as they are (true frames 1, 6, 11, 16): what
+// the node identifies of each scan (fitted alone, FitLevel::kScan: a person scanned once).
 enum class ProbeFrames { kInterpolated, kAll, kSingleScans };
 
 // The probes of one evaluation. Gallery: eta1 and eta2 of walk `gallery_trial` (40 poses, 5.8.3)
@@ -164,7 +171,7 @@ struct MeasureNoise {
 };
 // The within-subject noise of every raw feature component of a view between walks trial_a and
 // trial_b of the same people: RMS over people and eta3 frames of (frame f of walk a - frame f of
-// walk b) / sqrt 2. single_scans_b: walk b's 4 fits as single scans (each its own body)
+// walk b) / sqrt 2. single_scans_b: walk b's 4 fits as single scans
 // against walk a's eta3 frames 1, 6, 11, 16: the noise of single-scan probes. Throws
 // std::runtime_error when fewer than 2 people have both walks.
 FeatureNoise crossWalkNoise(const FittedWalks& walks, View view = View::k3D, int trial_a = 0,

@@ -7,6 +7,7 @@
 #include <body_gait_model/kinematic_model.h>
 #include <body_scan_driver/sim/human_body.h>
 #include <body_scan_driver/sim/mesh_human.h>
+#include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -35,6 +36,12 @@ body_scan_driver::sim::MeshPersonSpec meshPersonOf(
 body_scan_driver::sim::HumanBodySpec addSimulatedBody(
     const body_scan_driver::sim::HumanBodySpec& spec, BodyKind kind,
     body_scan_driver::sim::Scene& scene);
+
+// The scene-file object (sim::loadScene) of the spec's body of that kind, so a launched scanner
+// scans exactly what addSimulatedBody adds: a `human` (humanBodyToYaml), or a `mesh_human` of
+// meshPersonOf(spec) in the spec's pose whose kit and retarget map are named by absolute paths
+// (the file may be written anywhere).
+YAML::Node simulatedBodyToYaml(const body_scan_driver::sim::HumanBodySpec& spec, BodyKind kind);
 
 struct ScanRig {
   int poles = 3;               // evenly spaced around the subject
