@@ -4,8 +4,6 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -89,9 +87,8 @@ constexpr double kJointGap = 0.04;       // m each side of the split left out of
 // A leg's points this close to the lowest point touch the floor (m), and its foot is planted
 // when one of them lies this close (horizontally) to where the shank's line meets the floor.
 constexpr double kContactHeight = 0.015, kPlantedReach = 0.07;
-constexpr double kTipCap = 0.03;
-constexpr double kCrownCap = 0.02;  // m: the head's top points whose centroid is the vertex // m:
-                                    // an arm's far-end points, before its reach
+constexpr double kTipCap = 0.03;    // m: an arm's far-end points, before its reach
+constexpr double kCrownCap = 0.02;  // m: the head's top points whose centroid is the vertex
 constexpr double kMaxTipTurn = 30 * kPi / 180;  // the far end's direction from the lower line
 // Bend between the two lines (rad) below which the joint comes from the proportion alone, and
 // above which from the lines' meeting point alone.
