@@ -436,10 +436,10 @@ def recognition_full_scanner(r, q):
                                            "3D dynamic+static+shape weighted single scans"})
     lines = [f"Cross-walk on the 12-pair scanner simulation with the product's recognition "
              f"settings (`recognition.launch`: body shape, median walk body, the full scanner's "
-             f"noise file, learned on persons 25-49, so these {subjects} people are new to it). "
-             f"Rows: per frame of the probe walk's cycle, per walk, and walk 1's four fits as "
-             f"single-scan probes (how `gait_id_node` identifies each scan of a walk; its EER "
-             f"threshold is what `accept_threshold` should be). {first_line(text)} Plot: "
+             f"noise file, learned on 25 people of another seed, so these {subjects} people are "
+             f"new to it). Rows: per frame of the probe walk's cycle, per walk, and walk 1's four "
+             f"fits as single-scan probes (how `gait_id_node` identifies each scan of a walk; its "
+             f"EER threshold is what `accept_threshold` should be). {first_line(text)} Plot: "
              f"`docs/images/gait_id_cross_walk_full.png`.", ""]
     return [walks, scans], s1 + s2, lines + table(GAIT_HEADER, rows)
 

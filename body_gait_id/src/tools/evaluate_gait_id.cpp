@@ -269,7 +269,9 @@ TransformOptions learnedNoiseWeights(const Settings& s, bool single_scans) {
         body_gait_id::tools::scannerName(s.scan.scanner) + " scanner, " +
         std::to_string(s.noise_subjects) + " people from " + std::to_string(s.noise_first) +
         ", seed " + std::to_string(s.noise_seed) + ", " + (s.median_body ? "median" : "mean") +
-        " body of a walk" + (single_scans ? ", single-scan probes" : "");
+        " body of a walk" +
+        (s.scan.fit == FitLevel::kWalk ? ", walks fitted together" : ", scans fitted alone") +
+        (single_scans ? ", single-scan probes" : "");
     body_scan_driver::writeFileAtomically(s.noise_path,
                                           body_gait_id::featureNoiseYaml(weighted.noise, source));
   }
