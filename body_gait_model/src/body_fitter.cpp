@@ -87,7 +87,9 @@ constexpr double kJointGap = 0.04;       // m each side of the split left out of
 // A leg's points this close to the lowest point touch the floor (m), and its foot is planted
 // when one of them lies this close (horizontally) to where the shank's line meets the floor.
 constexpr double kContactHeight = 0.015, kPlantedReach = 0.07;
-constexpr double kTipCap = 0.03;  // m: an arm's far-end points, before its reach
+constexpr double kTipCap = 0.03;    // m: an arm's far-end points, before its reach
+constexpr double kCrownCap = 0.02;  // m: the head's top points whose centroid is the vertex
+constexpr double kMaxTipTurn = 30 * kPi / 180;  // the far end's direction from the lower line
 // Bend between the two lines (rad) below which the joint comes from the proportion alone, and
 // above which from the lines' meeting point alone.
 constexpr double kStraightBend = 6 * kPi / 180, kClearBend = 14 * kPi / 180;
@@ -233,7 +235,11 @@ LimbFit fitLimb(std::vector<Eigen::Vector3d> points, const std::vector<Eigen::Ve
   if (!proximal_fixed)
     for (int pass = 0; pass < 2; ++pass) {
       const Eigen::Vector3d towards = farEnd(tip_direction, &far_reach) - limb.middle_joint;
-      if (towards.norm() > kShortUpperPart / 2) tip_direction = towards.normalized();
+      // A cap far off the line holds stray points, no hand (a bent hand turns the elbow-to-tip
+      // direction 10-20 deg).
+      if (towards.norm() > kShortUpperPart / 2 &&
+          towards.normalized().dot(limb.lower.direction) > std::cos(kMaxTipTurn))
+        tip_direction = towards.normalized();
     }
   farEnd(tip_direction, &far_reach);
   limb.distal_end = limb.middle_joint + far_reach * tip_direction;
@@ -478,13 +484,16 @@ struct HeadFit {
   double head_area = 0;  // largest section of the head, m^2
   Eigen::Vector3d head_direction;
   double stature = 0;
+  // The vertex seen: the centroid of the head's top kCrownCap at the highest point's height
+  // (not when the hair is unseen or the crown lies above the viewpoints' sight).
+  Eigen::Vector3d crown = Eigen::Vector3d::Zero();
+  bool crown_seen = false;
 };
 
 HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vector<Part>& part,
                 const TorsoFit& torso, const BodyAxes& axes, int sectors) {
   // Head and neck (5.5.4): the neck is the narrowest section above the torso, the chin where the
   // sections widen again; the head runs from there to its highest point.
-  double neck_area = std::numeric_limits<double>::infinity(), neck_height = torso.top;
   double head_top = torso.top;
   std::vector<Eigen::Vector3d> head_points;
   for (size_t i = 0; i < model_points.size(); ++i)
@@ -496,26 +505,80 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
     throw std::invalid_argument("body fit: no head above the torso (" +
                                 std::to_string(head_points.size()) +
                                 " points); the top viewpoints must see the subject's head");
-  // The neck: the smallest well-sampled section in the lower half of the head-and-neck range.
-  for (const auto& section : torso.sections)
-    if (section.height > torso.top && section.height < (torso.top + head_top) / 2 &&
-        section.filled_sectors >= sectors / 2 && section.area < neck_area) {
-      neck_area = section.area;
-      neck_height = section.height;
-    }
-  if (!std::isfinite(neck_area)) neck_area = torso.sectionAt(torso.top).area;
-  double chin = torso.top + 0.3 * (head_top - torso.top);  // if the sections never widen
-  bool chin_found = false;
-  double head_area = 0;
-  for (const auto& section : torso.sections)
-    if (section.height > neck_height && section.height < head_top) {
-      if (section.filled_sectors < sectors / 2) continue;
-      if (!chin_found && section.area > 1.6 * neck_area) {
-        chin = section.height;
-        chin_found = true;
+  // Sections of the head and neck, each about its own slice's centroid: the torso's are taken
+  // about the body's vertical axis, which a head held forward of the trunk leaves at the neck's
+  // edge (CMU walk 07_02: neck sections of ~0 area, the chin found 30 mm low, the neck 30 % short).
+  const double step =
+      torso.sections.size() > 1 ? torso.sections[1].height - torso.sections[0].height : 0.01;
+  std::vector<std::vector<Eigen::Vector2d>> head_slices(
+      size_t(std::max(1.0, std::ceil((head_top - torso.top) / step))));
+  for (const auto& p : head_points)
+    head_slices[std::min(head_slices.size() - 1, size_t((p.y() - torso.top) / step))].emplace_back(
+        p.x(), p.z());
+  std::vector<CrossSection> head_sections;
+  for (size_t k = 0; k < head_slices.size(); ++k) {
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    for (const auto& xz : head_slices[k]) centre += xz;
+    if (!head_slices[k].empty()) centre /= double(head_slices[k].size());
+    std::vector<Eigen::Vector2d> around;
+    for (const auto& xz : head_slices[k]) around.push_back(xz - centre);
+    CrossSection section = crossSection(around, torso.top + (double(k) + 0.5) * step, sectors);
+    section.centre += centre;
+    head_sections.push_back(section);
+  }
+  // The neck: the smallest well-sampled section in the lower half of the head-and-neck range;
+  // the chin where the sections widen past 1.6x it.
+  struct NeckAndChin {
+    double neck_area = std::numeric_limits<double>::infinity(), neck_height = 0;
+    double chin = 0, head_area = 0;
+    bool chin_found = false;
+    Eigen::Vector2d chin_centre = Eigen::Vector2d::Zero();
+  };
+  auto neckAndChin = [&](const std::vector<CrossSection>& sections) {
+    NeckAndChin found;
+    found.neck_height = torso.top;
+    for (const auto& section : sections)
+      if (section.height > torso.top && section.height < (torso.top + head_top) / 2 &&
+          section.filled_sectors >= sectors / 2 && section.area < found.neck_area) {
+        found.neck_area = section.area;
+        found.neck_height = section.height;
       }
-      head_area = std::max(head_area, section.area);
+    if (!std::isfinite(found.neck_area)) found.neck_area = torso.sectionAt(torso.top).area;
+    found.chin = torso.top + 0.3 * (head_top - torso.top);  // if the sections never widen
+    for (const auto& section : sections)
+      if (section.height > found.neck_height && section.height < head_top) {
+        if (section.filled_sectors < sectors / 2) continue;
+        if (!found.chin_found && section.area > 1.6 * found.neck_area) {
+          found.chin = section.height;
+          found.chin_found = true;
+          found.chin_centre = section.centre;
+        }
+        found.head_area = std::max(found.head_area, section.area);
+      }
+    if (!found.chin_found) {
+      const double at = found.chin;
+      const auto nearest = std::min_element(
+          sections.begin(), sections.end(),
+          [&](auto& a, auto& b) { return std::abs(a.height - at) < std::abs(b.height - at); });
+      if (nearest != sections.end()) found.chin_centre = nearest->centre;
     }
+    return found;
+  };
+  // Dark hair returns no light: the head's upper half is then open (its sections about the axis
+  // have points in a few sectors only, the face's; a seen head fills nearly all). A slice's own
+  // centroid then lies on the face, not inside the head, so such a head keeps the sections about
+  // the axis (the chin-to-vertex proportion below was measured on them).
+  const NeckAndChin about_axis = neckAndChin(torso.sections);
+  int upper_head_sections = 0, upper_head_filled = 0;
+  for (const auto& section : torso.sections)
+    if (section.height > (about_axis.chin + head_top) / 2 && section.height < head_top) {
+      ++upper_head_sections;
+      upper_head_filled += section.filled_sectors;
+    }
+  const bool head_top_open = about_axis.chin_found && upper_head_sections > 0 &&
+                             upper_head_filled < upper_head_sections * sectors / 2;
+  const NeckAndChin found = head_top_open ? about_axis : neckAndChin(head_sections);
+  const double neck_area = found.neck_area, chin = found.chin, head_area = found.head_area;
   Eigen::Vector3d head_centroid = Eigen::Vector3d::Zero();
   int head_count = 0;
   for (const auto& p : head_points)
@@ -523,26 +586,16 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
       head_centroid += p;
       ++head_count;
     }
-  const CrossSection& chin_section = torso.sectionAt(chin);
-  const Eigen::Vector3d chin_centre(chin_section.centre.x(), chin, chin_section.centre.y());
+  const Eigen::Vector3d chin_centre(found.chin_centre.x(), chin, found.chin_centre.y());
   Eigen::Vector3d head_direction = torso.upper_direction;
-  // Dark hair returns no light: the head's upper half is then open (its sections have points in
-  // a few sectors only, the face's; a seen head fills nearly all), its visible top lies 40-53 mm
-  // below the vertex and the face alone pulls the head's centroid forward. Then the vertex comes
+  // An open head's visible top lies 40-53 mm below the vertex and the face alone pulls the
+  // head's centroid forward. Then the vertex comes
   // from the chin by proportion: in fits of simulated subjects with their hair seen, the chin
   // found above lies 0.103 (0.096-0.116) of the stature below the vertex (10 subjects x 4 poses;
   // Drillis & Contini's chin-to-vertex is 0.130, the sections widen past 1.6x the neck's ~0.03
   // higher). Measured on the same subjects with dark hair: vertex -3 mm (8 mm RMS) instead of
   // -46 mm. The stature from it sets the hips' height.
   constexpr double kChinToVertex = 0.103;  // * stature
-  int upper_head_sections = 0, upper_head_filled = 0;
-  for (const auto& section : torso.sections)
-    if (section.height > (chin + head_top) / 2 && section.height < head_top) {
-      ++upper_head_sections;
-      upper_head_filled += section.filled_sectors;
-    }
-  const bool head_top_open = chin_found && upper_head_sections > 0 &&
-                             upper_head_filled < upper_head_sections * sectors / 2;
   if (head_top_open)
     head_top = std::max(head_top, (chin - kChinToVertex * axes.lowest) / (1 - kChinToVertex));
   else if (head_count > 10)
@@ -552,7 +605,21 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
   // sight (tall subjects under the full scanner's top pairs).
   const double stature = std::max(head_top - axes.lowest, axes.stature);
 
-  return {neck_area, chin, head_area, head_direction, stature};
+  HeadFit fit{neck_area, chin, head_area, head_direction, stature};
+  if (!head_top_open && head_top - axes.lowest >= axes.stature - 0.005) {
+    Eigen::Vector2d cap = Eigen::Vector2d::Zero();
+    int count = 0;
+    for (const auto& p : head_points)
+      if (p.y() > head_top - kCrownCap) {
+        cap += Eigen::Vector2d(p.x(), p.z());
+        ++count;
+      }
+    if (count >= 10) {
+      fit.crown = Eigen::Vector3d(cap.x() / count, head_top, cap.y() / count);
+      fit.crown_seen = true;
+    }
+  }
+  return fit;
 }
 
 // The four limbs' lines, middle joints and far ends, and the shoulders and hips they hang from
@@ -770,6 +837,8 @@ struct DirectFit {
   Cloud without_feet;   // the fitting cloud above the feet (the model has none): refinement's
   Eigen::Vector3d soles[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};      // world
   Eigen::Vector3d hand_tips[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};  // world
+  Eigen::Vector3d crown = Eigen::Vector3d::Zero();  // world, when crown_seen
+  bool crown_seen = false;
   // Each leg's points within kContactHeight of the lowest point (world), and the floor's height
   // (world z of the lowest point).
   std::vector<Eigen::Vector3d> contacts[2];
@@ -831,6 +900,8 @@ DirectFit fitDirectly(const Cloud& full_cloud, const FitOptions& options) {
       if ((part[i] == kRightLeg || part[i] == kLeftLeg) &&
           model_points[i].y() < axes.lowest + kContactHeight)
         direct.contacts[part[i] == kLeftLeg ? 1 : 0].push_back(cloud[i]);
+    direct.crown = axes.toWorld(head.crown);
+    direct.crown_seen = head.crown_seen;
     direct.hand_tips[0] = axes.toWorld(joints.limbs[kRightArm].distal_end);
     direct.hand_tips[1] = axes.toWorld(joints.limbs[kLeftArm].distal_end);
     direct.fitted = true;
@@ -881,31 +952,76 @@ ShankLengths shankLengthsToSoles(const BodyModel& model, const DirectFit& direct
 
 // The refinement turns each lower arm to its forearm's surface, and a hand bent at the wrist
 // (real walks: 20-40 deg) leaves its tip 40-60 mm off that line: each lower arm is aimed from its
-// refined elbow at the tip the direct fit found (lengths: the elbow-to-tip distances, or
-// `lengths` when given, a walk's shared ones).
-std::array<double, 2> elbowToHandTips(const BodyModel& model, const DirectFit& direct) {
+// refined elbow at the tip the direct fit found. A tip the refined arm does not point at (beyond
+// kMaxTipTurn of its line, or its distance beyond max_length_change of the arm's length) comes
+// from a failed direct fit of the arm, which the refinement corrected: that arm stays.
+struct HandTips {
+  std::array<double, 2> length{};  // elbow to tip
+  std::array<bool, 2> found{};     // the tip agrees with the refined arm
+};
+
+HandTips elbowToHandTips(const BodyModel& model, const DirectFit& direct,
+                         double max_length_change) {
   const PosedModel posed = forwardKinematics(model);
-  std::array<double, 2> lengths{};
-  for (int side = 0; side < 2; ++side)
-    lengths[side] = (direct.hand_tips[side] -
-                     posed.segments[side == 0 ? kRightLowerArm : kLeftLowerArm].proximal)
-                        .norm();
-  return lengths;
+  HandTips tips;
+  for (int side = 0; side < 2; ++side) {
+    const int segment = side == 0 ? kRightLowerArm : kLeftLowerArm;
+    const PosedSegment& arm = posed.segments[segment];
+    const Eigen::Vector3d to_tip = direct.hand_tips[side] - arm.proximal;
+    tips.length[side] = to_tip.norm();
+    tips.found[side] =
+        tips.length[side] > 1e-3 && model.r[segment] > 0 &&
+        to_tip.normalized().dot((arm.distal - arm.proximal).normalized()) > std::cos(kMaxTipTurn) &&
+        std::abs(tips.length[side] / model.r[segment] - 1) < max_length_change;
+  }
+  return tips;
 }
 
-void aimLowerArmsAtHandTips(BodyModel& model, const DirectFit& direct,
+// Aims each lower arm whose tip was found at it; `lengths` (the walk's shared ones, or the
+// tips' distances) go to every arm with a length.
+void aimLowerArmsAtHandTips(BodyModel& model, const DirectFit& direct, const HandTips& tips,
                             const std::array<double, 2>& lengths, const JointLimitSet& limits) {
   for (int side = 0; side < 2; ++side) {
     const int segment = side == 0 ? kRightLowerArm : kLeftLowerArm;
+    if (lengths[side] > 0) model.r[segment] = lengths[side];
+    if (!tips.found[side]) continue;
     const PosedModel posed = forwardKinematics(model);
-    const PosedSegment& upper = posed.segments[segment - 1];
     const Eigen::Vector3d to_tip = direct.hand_tips[side] - posed.segments[segment].proximal;
-    if (to_tip.norm() < 1e-3) continue;
     const Eigen::Vector2d angles = jointAnglesForDirection(
-        upper.frame.linear().transpose() * to_tip.normalized(), segmentInfo(segment).points_up);
+        posed.segments[segment - 1].frame.linear().transpose() * to_tip.normalized(),
+        segmentInfo(segment).points_up);
     model.setJointAngles(segment, angles[0], angles[1]);
-    model.r[segment] = lengths[side];
   }
+  model = clampToJointLimits(model, limits);
+}
+
+// The refinement turns the head to the surface of its points, face and hair, whose axis runs
+// behind the vertex (simulated and CMU walks: head top 15-18 mm behind): the head is aimed from
+// its refined base at the vertex the direct fit saw, under the same agreement test as the hands.
+// Returns the base-to-vertex distance, 0 when no vertex was seen or it disagrees.
+double headBaseToCrown(const BodyModel& model, const DirectFit& direct, double max_length_change) {
+  if (!direct.crown_seen) return 0;
+  const PosedModel posed = forwardKinematics(model);
+  const PosedSegment& head = posed.segments[kHead];
+  const Eigen::Vector3d to_crown = direct.crown - head.proximal;
+  const double length = to_crown.norm();
+  const bool agrees = length > 1e-3 && model.r[kHead] > 0 &&
+                      to_crown.normalized().dot((head.distal - head.proximal).normalized()) >
+                          std::cos(kMaxTipTurn) &&
+                      std::abs(length / model.r[kHead] - 1) < max_length_change;
+  return agrees ? length : 0;
+}
+
+// Aims the head at the vertex when `found`; `length` > 0 becomes the head's length.
+void aimHeadAtCrown(BodyModel& model, const DirectFit& direct, bool found, double length,
+                    const JointLimitSet& limits) {
+  if (length > 0) model.r[kHead] = length;
+  if (!found) return;
+  const PosedModel posed = forwardKinematics(model);
+  const Eigen::Vector3d to_crown = direct.crown - posed.segments[kHead].proximal;
+  const Eigen::Vector2d angles = jointAnglesForDirection(
+      posed.segments[kNeck].frame.linear().transpose() * to_crown.normalized(), true);
+  model.setJointAngles(kHead, angles[0], angles[1]);
   model = clampToJointLimits(model, limits);
 }
 
@@ -938,7 +1054,13 @@ BodyFit fitBody(const Cloud& full_cloud, const FitOptions& options) {
     const auto shanks = shankLengthsToSoles(model, direct, options.refinement.min_length);
     model.r[kRightLowerLeg] = shanks.length[0];
     model.r[kLeftLowerLeg] = shanks.length[1];
-    aimLowerArmsAtHandTips(model, direct, elbowToHandTips(model, direct), options.joint_limits);
+    const HandTips tips = elbowToHandTips(model, direct, options.refinement.max_length_change);
+    std::array<double, 2> lengths{};
+    for (int side = 0; side < 2; ++side)
+      if (tips.found[side]) lengths[side] = tips.length[side];
+    aimLowerArmsAtHandTips(model, direct, tips, lengths, options.joint_limits);
+    const double crown = headBaseToCrown(model, direct, options.refinement.max_length_change);
+    aimHeadAtCrown(model, direct, crown > 0, crown, options.joint_limits);
   }
   finishFit(full_cloud, options, direct);
   return direct.fit;
@@ -997,19 +1119,32 @@ WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options) {
       }
       for (int side = 0; side < 2; ++side)
         if (!planted_lengths[side].empty()) shank_lengths[side] = planted_lengths[side];
+      // Each lower arm: the median elbow-to-tip distance over the scans whose tip was found.
+      std::vector<HandTips> tips;
       std::vector<double> forearm_lengths[2];
       for (size_t k = 0; k < fitted.size(); ++k) {
-        const auto lengths = elbowToHandTips(models[k], directs[fitted[k]]);
-        forearm_lengths[0].push_back(lengths[0]);
-        forearm_lengths[1].push_back(lengths[1]);
+        tips.push_back(
+            elbowToHandTips(models[k], directs[fitted[k]], options.refinement.max_length_change));
+        for (int side = 0; side < 2; ++side)
+          if (tips.back().found[side]) forearm_lengths[side].push_back(tips.back().length[side]);
       }
-      const std::array<double, 2> forearms = {median(forearm_lengths[0]),
-                                              median(forearm_lengths[1])};
+      std::array<double, 2> forearms{};
+      for (int side = 0; side < 2; ++side)
+        if (!forearm_lengths[side].empty()) forearms[side] = median(forearm_lengths[side]);
+      // The head: the median base-to-vertex distance over the scans whose vertex agrees.
+      std::vector<double> crowns, head_lengths;
+      for (size_t k = 0; k < fitted.size(); ++k) {
+        crowns.push_back(
+            headBaseToCrown(models[k], directs[fitted[k]], options.refinement.max_length_change));
+        if (crowns.back() > 0) head_lengths.push_back(crowns.back());
+      }
+      const double head_length = head_lengths.empty() ? 0.0 : median(head_lengths);
       for (size_t k = 0; k < fitted.size(); ++k) {
         BodyModel& model = models[k];
         model.r[kRightLowerLeg] = median(shank_lengths[0]);
         model.r[kLeftLowerLeg] = median(shank_lengths[1]);
-        aimLowerArmsAtHandTips(model, directs[fitted[k]], forearms, options.joint_limits);
+        aimLowerArmsAtHandTips(model, directs[fitted[k]], tips[k], forearms, options.joint_limits);
+        aimHeadAtCrown(model, directs[fitted[k]], crowns[k] > 0, head_length, options.joint_limits);
       }
     }
     for (size_t k = 0; k < fitted.size(); ++k) {

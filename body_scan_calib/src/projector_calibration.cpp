@@ -132,19 +132,6 @@ class SmoothStripePlanes {
 
 }  // namespace
 
-bool stripesChangeAlongRows(const cv::Mat1f& coordinate, int sample_step) {
-  double along_rows = 0, along_columns = 0;
-  for (int v = 0; v + 1 < coordinate.rows; v += sample_step)
-    for (int u = 0; u + 1 < coordinate.cols; u += sample_step) {
-      const float c = coordinate(v, u), below = coordinate(v + 1, u), right = coordinate(v, u + 1);
-      if (std::isfinite(c) && std::isfinite(below) && std::abs(below - c) < 2)
-        along_rows += std::abs(below - c);
-      if (std::isfinite(c) && std::isfinite(right) && std::abs(right - c) < 2)
-        along_columns += std::abs(right - c);
-    }
-  return along_rows >= along_columns;
-}
-
 std::vector<StripeCentreSample> extractStripeCentres(const cv::Mat1f& coordinate, int stripe_count,
                                                      const cv::Mat1b& region) {
   if (!region.empty() && region.size() != coordinate.size())

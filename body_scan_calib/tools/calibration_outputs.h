@@ -88,7 +88,8 @@ inline void addDecodingOption(CLI::App& app, DecodingChoice& choice) {
       {{"standard", DecodingChoice::Kind::kStandard}, {"robust", DecodingChoice::Kind::kRobust}},
       "standard: the driver's decoder as is (tuned on the simulator); robust: real captures "
       "(dark albedo decoded, codes inconsistent with their neighbours or the row code "
-      "rejected, median along the stripe). Default: robust except for --layout project");
+      "rejected, a contrast-weighted local plane fit of the coordinate). Default: robust except "
+      "for --layout project");
 }
 
 inline void addCaptureOptions(CLI::App& app, CaptureOptions& capture) {

@@ -39,7 +39,9 @@ class MasterRestart(unittest.TestCase):
         self.master = self.start("master", ["rosmaster", "--core", "-p", str(self.port)])
         self.assertTrue(self.wait(lambda: rosgraph.Master("/t").is_online(), 30))
         self.start("launch", ["roslaunch", "body_scan_launch", "full_scanner.launch", "gui:=false",
-                              "body_model:=false", f"calibration_dir:={self.dir}/calibration"])
+                              "body_model:=false", f"calibration_dir:={self.dir}/calibration",
+                              f"pair_timeout:={10.0 * TIME_SCALE}",
+                              f"scan_timeout:={60.0 * TIME_SCALE}"])
 
     def tearDown(self):
         for proc in reversed(self.procs):

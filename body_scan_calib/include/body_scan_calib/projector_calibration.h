@@ -5,6 +5,7 @@
 #pragma once
 
 #include <body_scan_driver/pair_model.h>
+#include <body_scan_driver/robust_decoding.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -106,9 +107,6 @@ ProjectorCalibrationResult calibrateStripePlanes(
 // component, as the simulator's factory planes), so that neighbouring planes interpolate.
 Eigen::Vector4d orientPlane(const Eigen::Vector4d& plane);
 
-// Whether a decoded stripe coordinate changes more down the image (along rows) than across it:
-// mean absolute change between neighbours (steps under 2 stripes), sampled every sample_step
-// pixels. Rows for the pole's vertical baseline.
-bool stripesChangeAlongRows(const cv::Mat1f& coordinate, int sample_step = 4);
+using body_scan_driver::stripesChangeAlongRows;  // robust_decoding.h
 
 }  // namespace body_scan_calib

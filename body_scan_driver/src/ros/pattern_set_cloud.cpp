@@ -32,6 +32,7 @@ size_t PatternSetCloud::triangulate(const body_scan_msgs::PatternSet& set,
     decoder_ =
         std::make_unique<StripeDecoder>(PatternLayout(set.bits, set.inverse_frames), params_);
   decoder_->decode(frames, stripes_);
+  refineDecoding(frames, decoder_->layout(), {}, stripes_, robust_);
 
   const cv::Size size = frames[0].size();
   layoutFloatCloud(cloud, size.width, size.height, /*rgb=*/true);

@@ -2,6 +2,7 @@
 // scan id, for Merge), points (the same PointCloud2 for rviz, when subscribed) + stripe_image.
 // Decoding and triangulation are body_scan_driver's core functions; this is the ROS wrapper.
 #include <body_scan_driver/calibration_file.h>
+#include <body_scan_driver/robust_decoding.h>
 #include <body_scan_driver/ros/message_checks.h>
 #include <body_scan_driver/ros/pattern_set_cloud.h>
 #include <body_scan_driver/stripe_decoder.h>
@@ -31,7 +32,9 @@ class TriangulateNodelet : public nodelet::Nodelet {
     params.subpixel = pnh.param("subpixel", true);
     params.min_contrast = pnh.param("min_contrast", params.min_contrast);
     params.edge_contrast_ratio = pnh.param("edge_contrast_ratio", params.edge_contrast_ratio);
-    cloud_maker_ = body_scan_driver::PatternSetCloud(params);
+    body_scan_driver::RobustDecoding robust;
+    robust.enabled = pnh.param("robust_decoding", false);
+    cloud_maker_ = body_scan_driver::PatternSetCloud(params, robust);
     min_range_ = pnh.param("min_range", 0.2);
     max_range_ = pnh.param("max_range", 5.0);
     points_pub_ = nh.advertise<sensor_msgs::PointCloud2>("points", 2);

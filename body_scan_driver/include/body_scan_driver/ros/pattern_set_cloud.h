@@ -4,6 +4,7 @@
 // PatternSet fuzz target both call this, so the fuzzer exercises exactly the nodelet's path.
 #pragma once
 
+#include <body_scan_driver/robust_decoding.h>
 #include <body_scan_driver/stripe_decoder.h>
 #include <body_scan_driver/triangulation.h>
 #include <body_scan_msgs/PatternSet.h>
@@ -17,7 +18,9 @@ namespace body_scan_driver {
 // size allocates nothing but the clouds. One call at a time.
 class PatternSetCloud {
  public:
-  explicit PatternSetCloud(const DecoderParams& params = {}) : params_(params) {}
+  // robust.enabled: the robust decoding for real captures (robust_decoding.h) on top of params.
+  explicit PatternSetCloud(const DecoderParams& params = {}, const RobustDecoding& robust = {})
+      : params_(robust.decoderParams(params)), robust_(robust) {}
 
   // `set` must have passed checkPatternSet. Writes the organized float x y z rgb cloud of the
   // set's frame size into `cloud` (header left to the caller; NaN where nothing was measured)
@@ -31,6 +34,7 @@ class PatternSetCloud {
 
  private:
   DecoderParams params_;
+  RobustDecoding robust_;
   std::unique_ptr<StripeDecoder> decoder_;  // for the last set's layout
   StripeImage stripes_;
 };
