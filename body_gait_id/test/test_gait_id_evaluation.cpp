@@ -106,14 +106,14 @@ TEST(GaitIdEvaluation, ThesisProtocolOnThreePeople) {
     ASSERT_EQ(r.metrics.cmc.size(), 3u) << r.name;
     EXPECT_DOUBLE_EQ(r.metrics.cmc.back().rate, 1.0) << r.name;  // rank 3 of 3 finds everyone
   }
-  // Measured (seed 1, walk-level fits): 48 / 48 for both 3D rows; pose error 0.90 plain, 0.31
+  // Measured (seed 1, walk-level fits): 48 / 48 for both 3D rows; pose error 0.44 plain, 0.10
   // cyclic.
   const RecognitionMetrics& both = row(results, "3D dynamic+static").metrics;
   const RecognitionMetrics& dynamic = row(results, "3D dynamic").metrics;
   EXPECT_EQ(both.identification.count, 48);
   EXPECT_EQ(dynamic.identification.count, 48);
-  EXPECT_LE(dynamic.average_pose_error, 1.0);
-  EXPECT_LE(dynamic.average_cyclic_pose_error, 0.4);
+  EXPECT_LE(dynamic.average_pose_error, 0.6);
+  EXPECT_LE(dynamic.average_cyclic_pose_error, 0.2);
   // With the representative frames (in the gallery too) the dynamic probes of frames 1, 6, 11,
   // 16 match their own training pose: pose error 0 there.
   std::vector<FeatureRow> rows_3d = thesisRows();
@@ -127,16 +127,14 @@ TEST(GaitIdEvaluation, ThesisProtocolOnThreePeople) {
 TEST(GaitIdEvaluation, CrossWalkProtocolOnThreePeople) {
   const std::vector<NamedMetrics> results = crossWalkProtocol(smallRun().walks, thesisRows());
   print(results);
-  // Another walk is much harder than the thesis protocol: measured (seed 1, walk-level fits) 3D
-  // dynamic 43 / 60, dynamic+static 20 / 60, chance (single-scan fits: 44 / 60 and 40 / 60): the
-  // fitted lengths vary between a person's walks as much as between these 3 people. The
-  // 50-person figures, with body shape and noise weights, are in docs/RESULTS.md.
+  // Another walk is harder than the thesis protocol: measured (seed 1, walk-level fits) 3D
+  // dynamic 53 / 60, dynamic+static 60 / 60. The 50-person figures, with body shape and noise
+  // weights, are in docs/RESULTS.md.
   const RecognitionMetrics& both = row(results, "3D dynamic+static").metrics;
   const RecognitionMetrics& dynamic = row(results, "3D dynamic").metrics;
   EXPECT_EQ(both.enrolled_probes, 60);  // walk 1's eta3, all 20 frames, of 3 people
-  EXPECT_GE(dynamic.identification.rate, 0.65);
-  EXPECT_GE(both.identification.rate, 0.3);
-  EXPECT_LT(both.identification.rate, 1.0);  // different walks: not the thesis protocol's 100 %
+  EXPECT_GE(dynamic.identification.rate, 0.8);
+  EXPECT_GE(both.identification.rate, 0.9);
   EXPECT_DOUBLE_EQ(both.cmc.back().rate, 1.0);
   ASSERT_TRUE(both.open_set.has_value());  // 1 person enrolled, 2 to reject
   EXPECT_EQ(both.open_set->fnir.n, 20);
@@ -160,13 +158,13 @@ TEST(GaitIdEvaluation, SingleScanProbesAreTheWalksOwnFits) {
   const std::vector<NamedMetrics> results =
       crossWalkProtocol(walks, rows, {}, false, 1, ProbeFrames::kSingleScans);
   print(results);
-  // Measured (3 people, seed 1, walk-level fits): 3D dynamic 8 / 12, dynamic+static 4 / 12
+  // Measured (3 people, seed 1, walk-level fits): 3D dynamic 10 / 12, dynamic+static 12 / 12
   // (chance 4 / 12).
   const RecognitionMetrics& both = row(results, "3D dynamic+static single scans").metrics;
   const RecognitionMetrics& dynamic = row(results, "3D dynamic single scans").metrics;
   EXPECT_EQ(both.enrolled_probes, 12);
-  EXPECT_GE(dynamic.identification.rate, 0.6);
-  EXPECT_GE(both.identification.rate, 0.3);
+  EXPECT_GE(dynamic.identification.rate, 0.65);
+  EXPECT_GE(both.identification.rate, 0.75);
   // The single-scan noise: walk 1's fits against walk 0's frames 1, 6, 11, 16.
   const FeatureNoise walk_noise = crossWalkNoise(walks, View::k3D, 0, 1);
   const FeatureNoise scan_noise = crossWalkNoise(walks, View::k3D, 0, 1, true);

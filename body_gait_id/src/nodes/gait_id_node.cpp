@@ -31,7 +31,7 @@ constexpr double kDefaultAcceptThreshold = 4.5;
 // static + shape, the full scanner's noise weights, median body): the threshold at FNIR 5 % of
 // 50 simulated people's walks on the full scanner, walks fitted together (evaluate_gait_id
 // --per-walk, docs/EVALUATION.md).
-constexpr double kDefaultWalkAcceptThreshold = 16.2;
+constexpr double kDefaultWalkAcceptThreshold = 15.9;
 
 class GaitIdNode {
  public:
