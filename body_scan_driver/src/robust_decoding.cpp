@@ -8,6 +8,16 @@
 
 namespace body_scan_driver {
 
+namespace {
+
+// The pixel is left undecoded (both of StripeImage's outputs).
+void invalidate(StripeImage& stripes, int v, int u) {
+  stripes.coordinate(v, u) = std::numeric_limits<float>::quiet_NaN();
+  stripes.stripe(v, u) = kInvalidStripe;
+}
+
+}  // namespace
+
 bool stripesChangeAlongRows(const cv::Mat1f& coordinate, int sample_step) {
   double along_rows = 0, along_columns = 0;
   for (int v = 0; v + 1 < coordinate.rows; v += sample_step)
@@ -53,8 +63,7 @@ size_t rejectInconsistentCodes(StripeImage& stripes, const RobustDecoding& robus
         consistent = std::abs(centre - window[window.size() / 2]) <= robust.max_neighbour_deviation;
       }
       if (consistent) continue;
-      stripes.coordinate(v, u) = std::numeric_limits<float>::quiet_NaN();
-      stripes.stripe(v, u) = kInvalidStripe;
+      invalidate(stripes, v, u);
       ++rejected;
     }
   return rejected;
@@ -165,8 +174,7 @@ size_t fitLocalPlanes(StripeImage& stripes, const std::vector<cv::Mat>& frames,
           deviation > robust.fit_outlier && outliers_around(v, u) > robust.max_isolated_outliers &&
           measured_weight(v, u) >= redecide_share * weight_sum(v, u) / std::max(1.0, inliers(v, u));
       if (!reliable_outlier && deviation <= robust.max_neighbour_deviation) continue;
-      coordinate = std::numeric_limits<float>::quiet_NaN();
-      stripes.stripe(v, u) = kInvalidStripe;
+      invalidate(stripes, v, u);
       ++rejected;
     }
   return rejected;
@@ -186,8 +194,7 @@ size_t rejectSignalless(const std::vector<cv::Mat>& frames, const PatternLayout&
     for (int u = 0; u < signal.cols; ++u)
       if (signal.at<uint8_t>(v, u) < robust.min_contrast &&
           std::isfinite(stripes.coordinate(v, u))) {
-        stripes.coordinate(v, u) = std::numeric_limits<float>::quiet_NaN();
-        stripes.stripe(v, u) = kInvalidStripe;
+        invalidate(stripes, v, u);
         ++rejected;
       }
   return rejected;
@@ -208,10 +215,7 @@ void refineDecoding(const std::vector<cv::Mat>& frames, const PatternLayout& lay
     rejectInconsistentCodes(cross, robust);
     for (int v = 0; v < stripes.coordinate.rows; ++v)
       for (int u = 0; u < stripes.coordinate.cols; ++u)
-        if (!std::isfinite(cross.coordinate(v, u))) {
-          stripes.coordinate(v, u) = std::numeric_limits<float>::quiet_NaN();
-          stripes.stripe(v, u) = kInvalidStripe;
-        }
+        if (!std::isfinite(cross.coordinate(v, u))) invalidate(stripes, v, u);
   }
   fitLocalPlanes(stripes, frames, robust);
 }
