@@ -960,19 +960,40 @@ struct HandTips {
   std::array<bool, 2> found{};     // the tip agrees with the refined arm
 };
 
+// The distance from `segment`'s proximal joint to `target` when the segment points at it within
+// kMaxTipTurn and that distance is within max_length_change of its length; 0 otherwise.
+double agreeingReach(const BodyModel& model, const PosedModel& posed, int segment,
+                     const Eigen::Vector3d& target, double max_length_change) {
+  const PosedSegment& posed_segment = posed.segments[segment];
+  const Eigen::Vector3d to_target = target - posed_segment.proximal;
+  const double length = to_target.norm();
+  const bool agrees =
+      length > 1e-3 && model.r[segment] > 0 &&
+      to_target.normalized().dot((posed_segment.distal - posed_segment.proximal).normalized()) >
+          std::cos(kMaxTipTurn) &&
+      std::abs(length / model.r[segment] - 1) < max_length_change;
+  return agrees ? length : 0;
+}
+
+// Turns `segment` about its proximal joint to point at `target`.
+void aimSegmentAt(BodyModel& model, int segment, const Eigen::Vector3d& target) {
+  const PosedModel posed = forwardKinematics(model);
+  const SegmentInfo& info = segmentInfo(segment);
+  const Eigen::Vector3d direction = (target - posed.segments[segment].proximal).normalized();
+  const Eigen::Vector2d angles = jointAnglesForDirection(
+      posed.segments[info.parent].frame.linear().transpose() * direction, info.points_up);
+  model.setJointAngles(segment, angles[0], angles[1]);
+}
+
 HandTips elbowToHandTips(const BodyModel& model, const DirectFit& direct,
                          double max_length_change) {
   const PosedModel posed = forwardKinematics(model);
   HandTips tips;
   for (int side = 0; side < 2; ++side) {
     const int segment = side == 0 ? kRightLowerArm : kLeftLowerArm;
-    const PosedSegment& arm = posed.segments[segment];
-    const Eigen::Vector3d to_tip = direct.hand_tips[side] - arm.proximal;
-    tips.length[side] = to_tip.norm();
+    tips.length[side] = (direct.hand_tips[side] - posed.segments[segment].proximal).norm();
     tips.found[side] =
-        tips.length[side] > 1e-3 && model.r[segment] > 0 &&
-        to_tip.normalized().dot((arm.distal - arm.proximal).normalized()) > std::cos(kMaxTipTurn) &&
-        std::abs(tips.length[side] / model.r[segment] - 1) < max_length_change;
+        agreeingReach(model, posed, segment, direct.hand_tips[side], max_length_change) > 0;
   }
   return tips;
 }
@@ -984,13 +1005,7 @@ void aimLowerArmsAtHandTips(BodyModel& model, const DirectFit& direct, const Han
   for (int side = 0; side < 2; ++side) {
     const int segment = side == 0 ? kRightLowerArm : kLeftLowerArm;
     if (lengths[side] > 0) model.r[segment] = lengths[side];
-    if (!tips.found[side]) continue;
-    const PosedModel posed = forwardKinematics(model);
-    const Eigen::Vector3d to_tip = direct.hand_tips[side] - posed.segments[segment].proximal;
-    const Eigen::Vector2d angles = jointAnglesForDirection(
-        posed.segments[segment - 1].frame.linear().transpose() * to_tip.normalized(),
-        segmentInfo(segment).points_up);
-    model.setJointAngles(segment, angles[0], angles[1]);
+    if (tips.found[side]) aimSegmentAt(model, segment, direct.hand_tips[side]);
   }
   model = clampToJointLimits(model, limits);
 }
@@ -1001,15 +1016,7 @@ void aimLowerArmsAtHandTips(BodyModel& model, const DirectFit& direct, const Han
 // Returns the base-to-vertex distance, 0 when no vertex was seen or it disagrees.
 double headBaseToCrown(const BodyModel& model, const DirectFit& direct, double max_length_change) {
   if (!direct.crown_seen) return 0;
-  const PosedModel posed = forwardKinematics(model);
-  const PosedSegment& head = posed.segments[kHead];
-  const Eigen::Vector3d to_crown = direct.crown - head.proximal;
-  const double length = to_crown.norm();
-  const bool agrees = length > 1e-3 && model.r[kHead] > 0 &&
-                      to_crown.normalized().dot((head.distal - head.proximal).normalized()) >
-                          std::cos(kMaxTipTurn) &&
-                      std::abs(length / model.r[kHead] - 1) < max_length_change;
-  return agrees ? length : 0;
+  return agreeingReach(model, forwardKinematics(model), kHead, direct.crown, max_length_change);
 }
 
 // Aims the head at the vertex when `found`; `length` > 0 becomes the head's length.
@@ -1017,11 +1024,7 @@ void aimHeadAtCrown(BodyModel& model, const DirectFit& direct, bool found, doubl
                     const JointLimitSet& limits) {
   if (length > 0) model.r[kHead] = length;
   if (!found) return;
-  const PosedModel posed = forwardKinematics(model);
-  const Eigen::Vector3d to_crown = direct.crown - posed.segments[kHead].proximal;
-  const Eigen::Vector2d angles = jointAnglesForDirection(
-      posed.segments[kNeck].frame.linear().transpose() * to_crown.normalized(), true);
-  model.setJointAngles(kHead, angles[0], angles[1]);
+  aimSegmentAt(model, kHead, direct.crown);
   model = clampToJointLimits(model, limits);
 }
 
