@@ -11,8 +11,10 @@ import tempfile
 import threading
 import time
 import unittest
+from xmlrpc.client import ServerProxy
 
 import rosbag
+import rosgraph
 import rospy
 import rostest
 from body_scan_msgs.msg import ScanReport
@@ -72,16 +74,36 @@ def wait_until(cond, predicate, timeout, poll=0.05):
         return True
 
 
-def wait_for_subscriber(topic, node_prefix, timeout):
-    master = rospy.get_master()
+def recorded_topics():
+    """The topics a scan must reach the bag on: every pair's pattern set and the scan reports."""
+    pairs = rospy.get_param("/body_scan/scan_coordinator/pairs")
+    return ["/%s/pattern_set" % p for p in pairs] + ["/body_scan/scan_report"]
+
+
+def wait_for_recorder(topics, recorder, timeout):
+    """Waits until every publisher of every topic has an open connection to `recorder`. The
+    master lists a subscription before its publishers have connected, and a message published
+    in between never reaches the subscriber, so the publishers' own bus info is asked."""
+    master = rosgraph.Master(rospy.get_name())
     deadline = time.time() + timeout * TIME_SCALE
     while time.time() < deadline:
-        _, _, state = master.getSystemState()
-        for name, nodes in state[1]:
-            if name == topic and any(n.startswith(node_prefix) for n in nodes):
-                return True
+        publishers = dict(master.getSystemState()[0])
+        if all(topic in publishers and all(connected_to(master, node, topic, recorder)
+                                           for node in publishers[topic]) for topic in topics):
+            return True
         time.sleep(0.2)
     return False
+
+
+def connected_to(master, node, topic, subscriber):
+    """Whether `node` has an open outbound connection to `subscriber` on `topic`."""
+    try:
+        code, _, bus_info = ServerProxy(master.lookupNode(node)).getBusInfo(rospy.get_name())
+    except (OSError, rosgraph.MasterError):
+        return False  # the node went away or is starting: the caller asks again
+    # Each entry: connection id, peer, direction, transport, topic, connected (roscpp, rospy).
+    return code == 1 and any(info[1] == subscriber and info[2] == "o" and info[4] == topic and
+                             (len(info) < 6 or info[5]) for info in bus_info)
 
 
 class RecordReplay(unittest.TestCase):
@@ -95,8 +117,8 @@ class RecordReplay(unittest.TestCase):
         record = subprocess.Popen(["roslaunch", "body_scan_launch", "record.launch",
                                    "bag:=" + bag])
         try:
-            self.assertTrue(wait_for_subscriber("/pole_c/pair_4/pattern_set", "/record_scans", 30),
-                            "record.launch did not subscribe to the pattern sets")
+            self.assertTrue(wait_for_recorder(recorded_topics(), "/record_scans", 30),
+                            "record.launch did not connect to every pair's pattern sets")
             response = rospy.ServiceProxy("/body_scan/capture", Scan)(0)
             self.assertTrue(response.success, response.message)
             cloud, report = live.wait(response.scan_id, 120)

@@ -20,7 +20,7 @@ import unittest
 import rospy
 import rostest
 
-from test_record_replay import TIME_SCALE, wait_for_subscriber  # same directory
+from test_record_replay import TIME_SCALE, recorded_topics, wait_for_recorder  # same directory
 from body_scan_msgs.msg import Identity, WalkProgress
 from body_scan_msgs.srv import CaptureWalk, ListSubjects, RemoveSubject
 
@@ -97,8 +97,9 @@ class WalkSession(unittest.TestCase):
                 os.remove(bag)
             record = subprocess.Popen(["roslaunch", "body_scan_launch", "record.launch",
                                        "bag:=" + bag])
-            self.assertTrue(wait_for_subscriber("/pole_c/pair_4/pattern_set", "/record_scans", 30),
-                            "record.launch did not subscribe to the pattern sets")
+            self.assertTrue(wait_for_recorder(recorded_topics() + ["/body_scan/walk_progress"],
+                                              "/record_scans", 30),
+                            "record.launch did not connect to every pair's pattern sets")
         try:
             walk = rospy.ServiceProxy("/body_scan/capture_walk", CaptureWalk)(
                 walk_id=0, pause=-1.0, trigger=True)
