@@ -641,6 +641,10 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
     if (part[i] != kUnassigned) limb_points[part[i]].push_back(model_points[i]);
   // Proximal joints. Shoulder: below the top of the shoulder above the upper-arm line by the
   // arm's radius. Hip: on the thigh line at hip_height * body height above the lowest point.
+  // The top of the shoulder is no higher than the shoulders' top the body axes found (the
+  // highest slice as wide as shoulders: the acromia): above it, a column reaching in toward the
+  // neck meets the trapezius sloping up (the mesh human on the CMU walks: shoulders 37-51 mm
+  // high, 27-41 mm with this bound; the ellipsoid bodies' shoulders 1-2 mm nearer).
   auto shoulderOn = [&](const Line& line, double radius) {
     const Eigen::Vector3d column = line.atHeight(torso.top);
     double shoulder_top = -std::numeric_limits<double>::infinity();
@@ -649,7 +653,7 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
           p.y() < torso.top + 0.1 * body_height)
         shoulder_top = std::max(shoulder_top, p.y());
     if (!std::isfinite(shoulder_top)) shoulder_top = torso.top;
-    return line.atHeight(shoulder_top - radius);
+    return line.atHeight(std::min(shoulder_top, axes.shoulder_top) - radius);
   };
   // Hips: inside the pelvis, unseen. Height by proportion; depth on the lower torso's axis; each
   // hip above the centre of its thigh's top 10 cm (a thigh line extrapolated up from a low
