@@ -40,6 +40,10 @@ double shoulderTop(const Cloud& cloud, const Eigen::Vector3d& centroid, const Ei
                    const BodyAxesOptions& options) {
   constexpr double kSlice = 0.01;
   constexpr int kDirections = 8;
+  // At least this many points left out at each end: a sparse slice's 2nd percentile is its
+  // extreme point, and a few stray points of undecoded dark hair made the head's top slice as
+  // wide as shoulders (the frame turned 60 deg, the fit 277 mm off).
+  constexpr size_t kMinTrimmed = 3;
   const Eigen::Vector3d v = up.cross(u);
   const double floor_of_search = options.shoulder_band_low * body_height;
   const int slices = int(std::ceil((body_height - floor_of_search) / kSlice)) + 1;
@@ -60,7 +64,8 @@ double shoulderTop(const Cloud& cloud, const Eigen::Vector3d& centroid, const Ei
       const Eigen::Vector2d direction(std::cos(angle), std::sin(angle));
       projections.clear();
       for (const auto& p : planar[slice]) projections.push_back(p.dot(direction));
-      const size_t low = projections.size() / 50, high = projections.size() - 1 - low;
+      const size_t low = std::max<size_t>(projections.size() / 50, kMinTrimmed);
+      const size_t high = projections.size() - 1 - low;
       std::nth_element(projections.begin(), projections.begin() + low, projections.end());
       const double low_value = projections[low];
       std::nth_element(projections.begin(), projections.begin() + high, projections.end());

@@ -488,6 +488,8 @@ struct HeadFit {
   // (not when the hair is unseen or the crown lies above the viewpoints' sight).
   Eigen::Vector3d crown = Eigen::Vector3d::Zero();
   bool crown_seen = false;
+  // Dark hair: the head's upper half returned no light, the vertex was placed from the chin.
+  bool top_open = false;
 };
 
 HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vector<Part>& part,
@@ -606,6 +608,7 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
   const double stature = std::max(head_top - axes.lowest, axes.stature);
 
   HeadFit fit{neck_area, chin, head_area, head_direction, stature};
+  fit.top_open = head_top_open;
   if (!head_top_open && head_top - axes.lowest >= axes.stature - 0.005) {
     Eigen::Vector2d cap = Eigen::Vector2d::Zero();
     int count = 0;
@@ -638,6 +641,10 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
     if (part[i] != kUnassigned) limb_points[part[i]].push_back(model_points[i]);
   // Proximal joints. Shoulder: below the top of the shoulder above the upper-arm line by the
   // arm's radius. Hip: on the thigh line at hip_height * body height above the lowest point.
+  // The top of the shoulder is no higher than the shoulders' top the body axes found (the
+  // highest slice as wide as shoulders: the acromia): above it, a column reaching in toward the
+  // neck meets the trapezius sloping up (the mesh human on the CMU walks: shoulders 37-51 mm
+  // high, 27-41 mm with this bound; the ellipsoid bodies' shoulders 1-2 mm nearer).
   auto shoulderOn = [&](const Line& line, double radius) {
     const Eigen::Vector3d column = line.atHeight(torso.top);
     double shoulder_top = -std::numeric_limits<double>::infinity();
@@ -646,7 +653,7 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
           p.y() < torso.top + 0.1 * body_height)
         shoulder_top = std::max(shoulder_top, p.y());
     if (!std::isfinite(shoulder_top)) shoulder_top = torso.top;
-    return line.atHeight(shoulder_top - radius);
+    return line.atHeight(std::min(shoulder_top, axes.shoulder_top) - radius);
   };
   // Hips: inside the pelvis, unseen. Height by proportion; depth on the lower torso's axis; each
   // hip above the centre of its thigh's top 10 cm (a thigh line extrapolated up from a low
@@ -837,13 +844,37 @@ struct DirectFit {
   Cloud without_feet;   // the fitting cloud above the feet (the model has none): refinement's
   Eigen::Vector3d soles[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};      // world
   Eigen::Vector3d hand_tips[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};  // world
-  Eigen::Vector3d crown = Eigen::Vector3d::Zero();  // world, when crown_seen
-  bool crown_seen = false;
+  // The vertex (world) when crown_known: seen, or under dark hair placed from the chin on the
+  // trunk's axis (the refinement has only the face to turn that head to: on 10 subjects x 4 poses
+  // with dark hair the head top came out 37 mm forward, 5 mm aimed at the placed vertex).
+  Eigen::Vector3d crown = Eigen::Vector3d::Zero();
+  bool crown_known = false;
   // Each leg's points within kContactHeight of the lowest point (world), and the floor's height
   // (world z of the lowest point).
   std::vector<Eigen::Vector3d> contacts[2];
   double floor = 0;
+  // False when the pelvis returned too little light to be seen (pelvisSeen).
+  bool pelvis_seen = true;
 };
+
+// Whether the pelvis was seen: most torso sections from the hips' height up to kPelvisBand of
+// the stature above them closed (points in at least 3/4 of the sectors, as fitTorso's reference
+// section). The iliac crest lies about 0.6 of the stature high (C. C. Gordon et al., "2012
+// Anthropometric Survey of U.S. Army Personnel", 2014: iliocristale height), the hip joints at
+// 0.53 (Drillis & Contini). Dark trunks leave that band open, and a walk's refinement then has
+// nothing to hold the hips where the direct fit put them: the thighs' lengths wander (10
+// subjects x 4 poses with dark trunks: hips 80-110 mm high or low in 3 walks, 51 mm off on
+// average; with the thighs held 24 mm).
+constexpr double kPelvisBand = 0.06;  // * stature
+bool pelvisSeen(const TorsoFit& torso, double hip_height, double stature, int sectors) {
+  int sections = 0, closed = 0;
+  for (const CrossSection& section : torso.sections)
+    if (section.height >= hip_height && section.height <= hip_height + kPelvisBand * stature) {
+      ++sections;
+      closed += section.filled_sectors >= sectors * 3 / 4;
+    }
+  return 2 * closed >= sections;
+}
 
 // Steps 5.5.1-5.5.4 on an even subsample of the cloud. Throws std::invalid_argument when the
 // cloud is no standing body at all (estimateBodyAxes).
@@ -900,8 +931,11 @@ DirectFit fitDirectly(const Cloud& full_cloud, const FitOptions& options) {
       if ((part[i] == kRightLeg || part[i] == kLeftLeg) &&
           model_points[i].y() < axes.lowest + kContactHeight)
         direct.contacts[part[i] == kLeftLeg ? 1 : 0].push_back(cloud[i]);
-    direct.crown = axes.toWorld(head.crown);
-    direct.crown_seen = head.crown_seen;
+    direct.crown =
+        axes.toWorld(head.top_open ? upper_axis.atHeight(axes.lowest + head.stature) : head.crown);
+    direct.crown_known = head.crown_seen || head.top_open;
+    direct.pelvis_seen = pelvisSeen(torso, axes.lowest + options.hip_height * head.stature,
+                                    head.stature, options.torso.sectors);
     direct.hand_tips[0] = axes.toWorld(joints.limbs[kRightArm].distal_end);
     direct.hand_tips[1] = axes.toWorld(joints.limbs[kLeftArm].distal_end);
     direct.fitted = true;
@@ -1012,10 +1046,10 @@ void aimLowerArmsAtHandTips(BodyModel& model, const DirectFit& direct, const Han
 
 // The refinement turns the head to the surface of its points, face and hair, whose axis runs
 // behind the vertex (simulated and CMU walks: head top 15-18 mm behind): the head is aimed from
-// its refined base at the vertex the direct fit saw, under the same agreement test as the hands.
-// Returns the base-to-vertex distance, 0 when no vertex was seen or it disagrees.
+// its refined base at the vertex the direct fit found, under the same agreement test as the hands.
+// Returns the base-to-vertex distance, 0 when no vertex was found or it disagrees.
 double headBaseToCrown(const BodyModel& model, const DirectFit& direct, double max_length_change) {
-  if (!direct.crown_seen) return 0;
+  if (!direct.crown_known) return 0;
   return agreeingReach(model, forwardKinematics(model), kHead, direct.crown, max_length_change);
 }
 
@@ -1109,7 +1143,10 @@ WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options) {
       clouds.push_back(&directs[i].without_feet);
     }
     if (options.refine) {
-      result.refinement = refineWalk(models, clouds, options.refinement, options.joint_limits);
+      // An unseen pelvis in any scan: the thighs keep the direct fit's lengths (pelvisSeen).
+      RefinementOptions refinement = options.refinement;
+      for (size_t i : fitted) refinement.hold_thighs_in_walks |= !directs[i].pelvis_seen;
+      result.refinement = refineWalk(models, clouds, refinement, options.joint_limits);
       // Each lower leg: the median over the scans where its foot is planted (else over all).
       std::vector<double> shank_lengths[2], planted_lengths[2];
       for (size_t k = 0; k < fitted.size(); ++k) {

@@ -76,5 +76,30 @@ TEST(BodyAxes, RefusesCloudsThatCannotBeAStandingBody) {
   }
 }
 
+TEST(BodyAxes, StrayPointsAboveTheHeadDoNotMoveTheShouldersTop) {
+  // Undecoded dark hair leaves a few stray points in the air around the head: the highest slices
+  // are sparse and their extreme points must not make them as wide as shoulders.
+  auto spec = eval::simulatedSubjects(1).front();
+  spec.pose = eval::gaitPose(1, 0.7);
+  eval::ScanRig rig;
+  rig.columns = 120;
+  rig.rows = 100;
+  const auto body = eval::sampleBody(spec, rig);
+  const BodyAxes clean = estimateBodyAxes(body.points);
+  Cloud cloud = body.points;
+  double top = 0;
+  for (const auto& p : cloud) top = std::max(top, p.z());
+  const Eigen::Vector3d head = eval::trueJoint(body, "head_top");
+  for (int k = 0; k < 20; ++k)  // a sparse top slice, two points of it far to the sides
+    cloud.emplace_back(head.x() + 0.002 * k, head.y(), top + 0.005);
+  cloud.emplace_back(head.x() - 0.45, head.y(), top + 0.004);
+  cloud.emplace_back(head.x() + 0.2, head.y() - 0.1, top + 0.006);
+  const BodyAxes axes = estimateBodyAxes(cloud);
+  std::printf("[ figure ] shoulders' top %.3f m with stray points, %.3f m without\n",
+              axes.shoulder_top - axes.lowest, clean.shoulder_top - clean.lowest);
+  EXPECT_NEAR(axes.shoulder_top - axes.lowest, clean.shoulder_top - clean.lowest, 0.02);
+  EXPECT_GT(axes.axes.col(2).dot(clean.axes.col(2)), std::cos(5 * kPi / 180));
+}
+
 }  // namespace
 }  // namespace body_gait_model

@@ -187,5 +187,34 @@ TEST(BodyFitter, ImplausibleLimbProportionsAreFlagged) {
       << elbow_quality.reason;
 }
 
+TEST(BodyFitter, MeshHumanShouldersStayBelowTheShouldersTop) {
+  // The mesh human's trapezius slopes up from the acromion to the neck; the shoulder joints hang
+  // from the top of the shoulder no higher than the slice as wide as shoulders. Mean |vertical
+  // shoulder error| over two people's 4 poses at evaluate_body_fit's headings (the sampler).
+  eval::ScanRig rig;
+  rig.columns = 300;
+  rig.rows = 243;
+  rig.noise_sigma = 0.002;
+  rig.body = eval::BodyKind::kMesh;
+  const auto subjects = eval::simulatedSubjects(10);
+  double vertical = 0;
+  int cases = 0;
+  for (int k : {5, 7}) {
+    for (int pose = 1; pose <= 4; ++pose, ++cases) {
+      auto spec = subjects[k];
+      spec.pose = eval::gaitPose(pose, 0.3 + 1.7 * (pose + 4 * k + pose - 1));
+      const auto body = eval::sampleBody(spec, rig);
+      const BodyFit fit = fitBody(body.points);
+      const eval::FitErrors errors = eval::compareWithTruth(fit.model, body);
+      vertical += (std::abs(errors.joint_offset.at("left_shoulder").z()) +
+                   std::abs(errors.joint_offset.at("right_shoulder").z())) /
+                  2;
+    }
+  }
+  vertical /= cases;
+  std::printf("[ figure ] mesh human: shoulders %.1f mm off vertically\n", 1000 * vertical);
+  EXPECT_LE(vertical, 0.045);  // 31.1 mm; 73.9 mm with the trapezius taken for the shoulder top
+}
+
 }  // namespace
 }  // namespace body_gait_model

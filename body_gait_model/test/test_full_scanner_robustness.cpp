@@ -2,7 +2,8 @@
 // missing, the arms touching the torso, and hair and trunks so dark (albedo 0.03) that little of
 // them decodes. Each stays within 2x the targets (50 mm) with every unflagged fit facing right;
 // a fit that goes wrong must come back flagged low quality. Subjects 5 and 9 of 10: the one
-// whose dark fit faced backwards (flagged) and the tallest.
+// whose dark fit once faced backwards (stray points above the dark hair taken for the
+// shoulders' top) and the tallest.
 #include <body_gait_model/body_fitter.h>
 #include <body_gait_model/eval/full_scanner_body.h>
 #include <gtest/gtest.h>

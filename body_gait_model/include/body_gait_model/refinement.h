@@ -21,7 +21,8 @@ struct RefinementOptions {
   // away to 5 m).
   double max_length_change = 0.3;
   // A single scan's thighs keep the direct fit's length (a straight leg's knee fits the surface
-  // anywhere along its line); in a walk they are refined unless this is set.
+  // anywhere along its line); in a walk they are refined unless this is set (fitWalk sets it
+  // when a scan's pelvis is unseen: nothing there holds the hips).
   bool hold_thighs_in_walks = false;
 };
 
