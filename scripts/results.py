@@ -178,7 +178,8 @@ def world_alignment(r, q):
 
 
 def real_captures(r, q):
-    return t_test_figures(r, q, [("body_scan_calib", "test_real_captures")],
+    return t_test_figures(r, q, [("body_scan_calib", "test_real_captures"),
+                                 ("body_scan_calib", "test_pattern_contrast")],
                           "a trimmed public real capture set, OpenCV layout, "
                           "`body_scan_calib/test/data/kamino_procam`; leave-one-pose-out "
                           "validation against the OpenCV pinhole-projector calibration")
