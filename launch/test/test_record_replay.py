@@ -134,6 +134,7 @@ class RecordReplay(unittest.TestCase):
 
         player = subprocess.Popen(["roslaunch", "body_scan_launch", "replay.launch",
                                    "bag:=" + bag, "prefix:=/replay",
+                                   "scan_timeout:=%g" % (60.0 * TIME_SCALE),
                                    "calibration_dir:=" + calibration_dir])
         try:
             replayed, replayed_report = replay.wait(response.scan_id, 180)

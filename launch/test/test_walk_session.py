@@ -136,6 +136,7 @@ class WalkSession(unittest.TestCase):
         replayed = Identities("/replay")
         player = subprocess.Popen(["roslaunch", "body_scan_launch", "replay.launch", "bag:=" + bag,
                                    "prefix:=/replay", "body_model:=true", "rate:=3",
+                                   "scan_timeout:=%g" % (60.0 * TIME_SCALE),
                                    "gallery_database:=" + rospy.get_param("~database"),
                                    "calibration_dir:=" + rospy.get_param("~calibration_dir")])
         try:
