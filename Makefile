@@ -153,7 +153,7 @@ bench: build
 # scripts/results.py, which runs the evaluation tools, tests and benchmarks and writes
 # docs/RESULTS.md (and the pictures the tools draw: docs/calibration/, docs/images/).
 RESULTS_TESTS := test_stripe_decoder test_triangulation test_camera_calibration_images \
-	test_real_captures test_rig
+	test_real_captures test_pattern_contrast test_rig
 results: build
 	cmake --build $(BUILD_DIR) -j$(JOBS) --target $(RESULTS_TESTS)
 	$(PY) scripts/results.py

@@ -7,7 +7,9 @@
 #
 #   scripts/calibrate_simulated_rig.sh [OUT_DIR]      (default build/simulated_rig)
 #   EXPOSURES=16 (frames averaged per pattern), BIN=dir of the tools (default build/devel/...),
-#   REPORT=FILE, PLOT=FILE (default OUT_DIR/world_alignment.yaml, .png)
+#   REPORT=FILE, PLOT=FILE (default OUT_DIR/world_alignment.yaml, .png),
+#   CALIBRATE_OPTIONS, ALIGN_OPTIONS: more options for calibrate_simulated_pair and
+#   align_simulated_rig (e.g. CALIBRATE_OPTIONS=--robust-decoding, both --ideal-optics)
 #
 # Writes OUT_DIR/estimated/<pole>_<pair>.yaml (+ _accuracy.yaml, _projector_parameters.png),
 # OUT_DIR/aligned/<pole>_<pair>.yaml (with world_alignment) and the E_h report and plot.
@@ -38,7 +40,8 @@ for pair in "${pairs[@]}"; do
   n=$((n + 1))
   stem=$(basename "$pair" .yaml)  # <pole>_<pair>: the stem align_world looks for
   echo "== [$n/${#pairs[@]}] calibrating $stem ($exposures exposures per pattern)"
-  "$bin/calibrate_simulated_pair" --pair "$pair" --exposures "$exposures" \
+  # shellcheck disable=SC2086 # word splitting of the options is intended
+  "$bin/calibrate_simulated_pair" --pair "$pair" --exposures "$exposures" ${CALIBRATE_OPTIONS:-} \
     --output "$out/estimated/$stem.yaml" \
     --report "$out/estimated/${stem}_accuracy.yaml" \
     --plot "$out/estimated/${stem}_projector_parameters.png"
@@ -48,6 +51,7 @@ echo "== aligning the estimated calibrations to the world (calibration cylinder)
 pair_options=()
 for pair in "${pairs[@]}"; do pair_options+=(--pair "$pair"); done
 "$bin/align_simulated_rig" --scene "$root/body_scan_driver/config/scenes/calibration_cylinder.yaml" \
-  "${pair_options[@]}" --calibration-in "$out/estimated" --calibration-out "$out/aligned" \
+  "${pair_options[@]}" ${ALIGN_OPTIONS:-} --calibration-in "$out/estimated" \
+  --calibration-out "$out/aligned" \
   --report "$report" --plot "$plot"
 echo "== done: $report"

@@ -7,8 +7,8 @@ the command and its wall time.
 
 The tools run from the devel space (build/devel, `make build` first). Their outputs go to
 build/results/; the pictures the tools draw go to docs/calibration/ and docs/images/. Fits of
-evaluate_gait_id are cached in build/results/fit_cache (a re-run reuses them; delete the folder to
-measure from scratch). --quick (RESULTS_QUICK=1) runs smaller sizes, stated in each table.
+evaluate_gait_id are cached in build/results/fit_cache (a re-run of the same build reuses them; a
+rebuilt library changes every key; delete the folder to measure from scratch). --quick (RESULTS_QUICK=1) runs smaller sizes, stated in each table.
 """
 import argparse
 import datetime
@@ -122,9 +122,9 @@ def pair_calibration(r, q):
     _, seconds = r.run(command)
     report = yaml.safe_load((ROOT / "docs/calibration/pair_accuracy.yaml").read_text())
     camera, projector = report["camera"], report["projector"]
-    lines = [f"Simulated pair (pole_a/pair_1), reference board in "
-             f"{camera['reference_plane_poses']} poses, {exposures} exposures averaged per "
-             f"pattern; sphere accuracy E_s (thesis eq 3.31, Table 3.2 layout) of the "
+    lines = [f"Simulated pair (pole_a/pair_1) with the optics of real captures (SIMULATOR.md), "
+             f"reference board in {camera['reference_plane_poses']} poses, {exposures} exposures "
+             f"averaged per pattern; sphere accuracy E_s (thesis eq 3.31, Table 3.2 layout) of the "
              f"plane-per-stripe model against the pinhole-projector baseline. Plot: "
              f"`docs/calibration/projector_parameters.png`.", ""]
     for block in report["sphere_accuracy_eq_3_31"]:
@@ -165,7 +165,8 @@ def world_alignment(r, q):
                      pair.get("grid_points_triangulated", ""), pair.get("fit_rms_mm", ""),
                      check.get("rotation_error_deg", ""), check.get("translation_error_mm", "")])
     e = report["E_h"]
-    lines = [f"The simulated 2x2 alignment rig calibrated from observations only (each pair "
+    lines = [f"The simulated 2x2 alignment rig (optics of real captures) calibrated from "
+             f"observations only (each pair "
              f"from the board and spheres, {exposures} exposures per pattern, then aligned on "
              f"the calibration cylinder with those estimated files). Report and plot: "
              f"`docs/calibration/world_alignment.yaml`, `.png`.", ""]
@@ -178,7 +179,8 @@ def world_alignment(r, q):
 
 
 def real_captures(r, q):
-    return t_test_figures(r, q, [("body_scan_calib", "test_real_captures")],
+    return t_test_figures(r, q, [("body_scan_calib", "test_real_captures"),
+                                 ("body_scan_calib", "test_pattern_contrast")],
                           "a trimmed public real capture set, OpenCV layout, "
                           "`body_scan_calib/test/data/kamino_procam`; leave-one-pose-out "
                           "validation against the OpenCV pinhole-projector calibration")

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """The full scanner from the install space: install the built tree, then run
 `roslaunch body_scan_launch full_scanner.launch gui:=false` in an environment that sources only
-the install space's setup.bash, and check that one scan publishes a merged cloud.
+the install space's setup.bash (plus a sanitizer build's runtime variables, if set), and check
+that one scan publishes a merged cloud.
 
 Usage: /usr/bin/python3 scripts/test_install_space.py BUILD_DIR [--installed] [--no-links]
            [--junit FILE]
@@ -32,8 +33,13 @@ from junit import write_junit
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MIN_POINTS = 100000
-SERVICE_TIMEOUT = 300.0  # s for /body_scan/capture to come up (12 pairs start at once)
-CLOUD_TIMEOUT = 240.0  # s from the capture request to the merged cloud
+# Sanitizer builds run several times slower: `make sanitize` stretches every wait by this.
+TIME_SCALE = float(os.environ.get("BODY_SCAN_TEST_TIME_SCALE", "1"))
+SERVICE_TIMEOUT = 300.0 * TIME_SCALE  # s for /body_scan/capture to come up (12 pairs at once)
+CLOUD_TIMEOUT = 240.0 * TIME_SCALE  # s from the capture request to the merged cloud
+# What a sanitizer build's processes need to load and configure its runtime (`make sanitize`);
+# passed through, as they are not part of what setup.bash provides.
+SANITIZER_RUNTIME = ("LD_PRELOAD", "ASAN_OPTIONS", "UBSAN_OPTIONS", "TSAN_OPTIONS")
 
 
 class Failed(Exception):
@@ -75,6 +81,7 @@ def install_environment(prefix, devel, ros_home, port):
     base = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin", "LANG": "C.UTF-8",
             "ROS_HOME": ros_home, "ROS_LOG_DIR": os.path.join(ros_home, "log"),
             "ROS_MASTER_URI": "http://localhost:%d" % port}
+    base.update({var: os.environ[var] for var in SANITIZER_RUNTIME if var in os.environ})
     out = subprocess.run(["bash", "-c", 'source "$1/setup.bash" && env -0', "_", prefix],
                          env=base, capture_output=True, check=True).stdout.decode()
     env = dict(item.split("=", 1) for item in out.split("\0") if "=" in item)

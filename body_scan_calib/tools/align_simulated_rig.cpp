@@ -22,6 +22,7 @@ namespace {
 struct Options {
   std::string scene, save_images, calibration_in;
   std::vector<std::string> pairs;
+  bool ideal_optics = false;
   body_scan_calib::WorldAlignmentFiles files;
 };
 
@@ -46,6 +47,7 @@ std::optional<int> parseOptions(int argc, char** argv, Options& options) {
                  "pair calibrations to align, <pole>_<pair>.yaml (the simulator's factory "
                  "calibration for a pair without a file)");
   body_scan_calib::tools::addWorldAlignmentOutputs(app, options.files);
+  body_scan_calib::tools::addIdealOpticsFlag(app, options.ideal_optics);
   return body_scan_driver::tools::parseCommandLine(app, argc, argv);
 }
 
@@ -71,7 +73,8 @@ int main(int argc, char** argv) {
   try {
     packageDefaults(options);
     const auto captures = body_scan_calib::sim::captureSimulatedCylinder(
-        options.scene, options.pairs, options.calibration_in, options.save_images);
+        options.scene, options.pairs, options.calibration_in, options.save_images,
+        options.ideal_optics);
     return body_scan_calib::alignWorld(captures, "live (simulator)", options.files) == 0 ? 0 : 1;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

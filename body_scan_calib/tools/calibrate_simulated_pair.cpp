@@ -18,7 +18,7 @@ namespace {
 struct Arguments {
   std::string pair, pair_id, save_images;
   int exposures = 16;
-  bool refinement = true;
+  bool refinement = true, ideal_optics = false, robust_decoding = false;
   body_scan_calib::PairCalibrationFiles files;
 };
 
@@ -41,6 +41,10 @@ std::optional<int> parse(int argc, char** argv, Arguments& arguments) {
       ->check(body_scan_driver::tools::atLeast(1));
   app.add_option("--save-images", arguments.save_images,
                  "also write the captures in the layout of calibrate_pair --images");
+  body_scan_calib::tools::addIdealOpticsFlag(app, arguments.ideal_optics);
+  app.add_flag("--robust-decoding", arguments.robust_decoding,
+               "decode the board poses with the robust decoding of real captures "
+               "(robust_decoding.h; default: the driver's decoder as is)");
   bool no_refinement = false;
   body_scan_calib::tools::addPairCalibrationOutputs(app, arguments.files, no_refinement);
   if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv)) return status;
@@ -55,11 +59,13 @@ int main(int argc, char** argv) {
   if (const auto status = parse(argc, argv, arguments)) return *status;
   try {
     const auto start = std::chrono::steady_clock::now();
-    const body_scan_driver::sim::VirtualPairConfig config =
+    body_scan_driver::sim::VirtualPairConfig config =
         arguments.pair.empty() ? body_scan_driver::sim::VirtualPairConfig{}
                                : body_scan_driver::sim::loadVirtualPairConfig(arguments.pair);
+    if (!arguments.ideal_optics) config = body_scan_driver::sim::withRealCaptureOptics(config);
     body_scan_calib::PairCalibrationOptions options;
     options.joint_refinement = arguments.refinement;
+    options.decoding.enabled = arguments.robust_decoding;
     options.pair_id = arguments.pair_id.empty() ? config.pair_id : arguments.pair_id;
     const body_scan_calib::PairViews views = body_scan_calib::sim::captureSimulatedPairViews(
         config, options.board, arguments.exposures, arguments.save_images);

@@ -39,6 +39,15 @@ inline void addWorldAlignmentOutputs(CLI::App& app, WorldAlignmentFiles& files) 
                  "height (default: the report's path with .png)");
 }
 
+// --ideal-optics of the simulated calibration tools (body_scan_driver sim/virtual_pair.h
+// RealCaptureOptics).
+inline void addIdealOpticsFlag(CLI::App& app, bool& ideal_optics) {
+  app.add_flag("--ideal-optics", ideal_optics,
+               "render with the pair file's optics as they are (default: add the optics of real "
+               "captures where the pair leaves them off: a 2.5-stripe projected line, blooming, "
+               "stray light)");
+}
+
 // --board-cols, --board-rows (inner corners) and --square (metres); `board` holds the defaults.
 inline void addBoardOptions(CLI::App& app, Checkerboard& board) {
   app.add_option("--board-cols,--cols", board.inner_cols,

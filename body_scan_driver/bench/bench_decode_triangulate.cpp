@@ -12,7 +12,9 @@
 // Scenes: "plane" fills the view (every pixel decodes: the worst case); "person" is the
 // single_pair scene. Cache: "hot" repeats one set (it stays in cache); "stream" cycles through
 // 8 sets (44 MB, more than the last-level cache), as pattern sets arriving from a camera do.
-// RenderPatternSet times the virtual pair (2 threads); RenderPersonSet1Thread one person's set on
+// RenderPatternSet times the virtual pair (2 threads), on the plane also with the optics of real
+// captures (.../plane_real_optics: a 2.5-stripe line, blooming, stray light; ratio against
+// .../plane); RenderPersonSet1Thread one person's set on
 // one thread, the mesh human (ours) against the ellipsoid body. Every case runs kRepetitions times;
 // scripts/bench_report.py takes the medians and prints the ratios against .../ours.
 #include <benchmark/benchmark.h>
@@ -45,11 +47,12 @@ const SceneSets& scene(const std::string& name) {
   if (entry.pair) return entry;
   std::shared_ptr<sim::Scene> world;
   sim::VirtualPairConfig config;
-  if (name == "plane") {
+  if (name == "plane" || name == "plane_real_optics") {
     world = std::make_shared<sim::Scene>();
     world->add(std::make_unique<sim::Plane>(Eigen::Vector3d(1.0, 0, 0), Eigen::Vector3d(-1, 0, 0),
                                             sim::Material{0.8, {0.8, 0.8, 0.8}}));
     config.world_from_camera = sim::cameraPose({0, 0, 0}, 0, 0);
+    if (name == "plane_real_optics") config = sim::withRealCaptureOptics(config);
   } else {
     // "person": the ellipsoid body; "mesh_person": the mesh human in the same pose.
     world = std::make_shared<sim::Scene>(sim::loadScene(
@@ -176,7 +179,9 @@ void readFramesWriteOutputs(benchmark::State& state) {
 
 void render(benchmark::State& state) {
   cv::setNumThreads(2);
-  const SceneSets& s = scene(sceneName(state));
+  const SceneSets& s = scene(state.range(0) == 2 ? "plane_real_optics"
+                             : state.range(0)    ? "person"
+                                                 : "plane");
   uint32_t scan = 2;
   for (auto _ : state) benchmark::DoNotOptimize(s.pair->render(scan++).frames.data());
 }
@@ -210,10 +215,12 @@ void registerAll() {
       add("read_frames_write_outputs", readFramesWriteOutputs);
       if (!stream) add("triangulate_only", triangulateOnly);
     }
-  for (int person : {0, 1})
-    benchmark::RegisterBenchmark(person ? "RenderPatternSet/person" : "RenderPatternSet/plane",
+  for (int scene : {0, 1, 2})
+    benchmark::RegisterBenchmark(scene == 2   ? "RenderPatternSet/plane_real_optics"
+                                 : scene == 1 ? "RenderPatternSet/person"
+                                              : "RenderPatternSet/plane",
                                  render)
-        ->Args({person, 0})
+        ->Args({scene, 0})
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
         ->Iterations(10)

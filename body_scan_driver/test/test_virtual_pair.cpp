@@ -122,3 +122,77 @@ TEST(VirtualPair, PairFileTyposAreErrorsAndTheDefaultFileLoads) {
   EXPECT_NEAR(config.world_from_camera.translation().x(), 1.0, 1e-12);
   EXPECT_NEAR((config.world_from_camera.linear() * Eigen::Vector3d::UnitZ()).x(), -1.0, 1e-12);
 }
+
+// Mean of a frame over the pixels where `mask` is set (grey levels).
+double meanWhere(const cv::Mat& frame, const cv::Mat& mask) { return cv::mean(frame, mask)[0]; }
+
+TEST(VirtualPair, RealCaptureOpticsBlurTheFinestBitAndSpillLight) {
+  // A board of 3 cm squares (about 24 px) 1 m in front, no sensor noise.
+  auto board = std::make_shared<sim::Scene>();
+  board->add(std::make_unique<sim::CheckerboardPlane>(
+      Eigen::Vector3d(1.0, 0, 0), Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(0, 1, 0), 16, 12, 0.03,
+      0.85, 0.03));
+  const sim::VirtualPairConfig ideal = test::pairLookingAlongX(0.0);
+  auto render = [&](const sim::VirtualPairConfig& config) {
+    return sim::VirtualPair(config, board).render(1).frames;
+  };
+  const std::vector<cv::Mat> plain = render(ideal);
+  // The squares in the middle of the image (the board covers about 390 x 290 px).
+  cv::Mat middle = cv::Mat::zeros(plain[0].size(), CV_8U);
+  middle(cv::Rect(220, 165, 200, 150)) = 255;
+  const cv::Mat dark_squares = (plain[0] < 40) & middle, light_squares = (plain[0] > 100) & middle;
+
+  // Blooming moves light from light squares into dark ones and keeps the frame's total.
+  sim::VirtualPairConfig bloom = ideal;
+  bloom.sensor.bloom_share = 0.1;
+  const std::vector<cv::Mat> bloomed = render(bloom);
+  EXPECT_NEAR(cv::mean(bloomed[0])[0], cv::mean(plain[0])[0], 0.01 * cv::mean(plain[0])[0]);
+  EXPECT_GT(meanWhere(bloomed[0], dark_squares), meanWhere(plain[0], dark_squares) + 2);
+  EXPECT_LT(meanWhere(bloomed[0], light_squares), meanWhere(plain[0], light_squares) - 2);
+
+  // Stray light adds its share of the frame's mean everywhere.
+  sim::VirtualPairConfig stray = ideal;
+  stray.sensor.stray_light = 0.1;
+  const std::vector<cv::Mat> strayed = render(stray);
+  EXPECT_NEAR(meanWhere(strayed[0], middle) - meanWhere(plain[0], middle),
+              0.1 * cv::mean(plain[0])[0], 0.3);
+
+  // A 2.5-stripe line box-averages the finest bit (runs of 2 stripes): over a period its mean
+  // |pattern - inverse| is 0.365 of full contrast, against 0.875 for the camera pixel's own
+  // footprint alone (about half a stripe here), so about 0.42 of the sharp line's.
+  sim::VirtualPairConfig wide = ideal;
+  wide.projector.line_width = 2.5;
+  const std::vector<cv::Mat> blurred = render(wide);
+  const PatternLayout layout(ideal.bits, true);
+  auto finest_contrast = [&](const std::vector<cv::Mat>& frames) {
+    cv::Mat difference;
+    cv::absdiff(frames[layout.patternFrame(ideal.bits - 1)],
+                frames[layout.inverseFrame(ideal.bits - 1)], difference);
+    return meanWhere(difference, light_squares);
+  };
+  const double ratio = finest_contrast(blurred) / finest_contrast(plain);
+  std::cout << "[ figure ] finest bit contrast, 2.5-stripe line vs sharp: " << ratio << "\n";
+  EXPECT_NEAR(ratio, 0.365 / 0.875, 0.06);
+}
+
+TEST(VirtualPair, OpticsKeysAreReadAndCheckedFromPairFiles) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("body_scan_test_optics_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(path) << "sensor: {bloom_share: 0.2, bloom_sigma: 6, stray_light: 0.01}\n"
+                      << "projector: {line_width: 1.5}\n";
+  const auto config = sim::loadVirtualPairConfig(path.string());
+  EXPECT_DOUBLE_EQ(config.sensor.bloom_share, 0.2);
+  EXPECT_DOUBLE_EQ(config.sensor.bloom_sigma, 6.0);
+  EXPECT_DOUBLE_EQ(config.sensor.stray_light, 0.01);
+  EXPECT_DOUBLE_EQ(config.projector.line_width, 1.5);
+  // The real-capture optics fill only what a pair file leaves off.
+  const auto real = sim::withRealCaptureOptics(config);
+  EXPECT_DOUBLE_EQ(real.projector.line_width, 1.5);
+  EXPECT_DOUBLE_EQ(sim::withRealCaptureOptics({}).projector.line_width,
+                   sim::RealCaptureOptics{}.line_width);
+  std::ofstream(path) << "sensor: {bloom_share: 1.5}\n";
+  EXPECT_THROW(sim::loadVirtualPairConfig(path.string()), std::runtime_error);
+  std::ofstream(path) << "projector: {line_width: -1}\n";
+  EXPECT_THROW(sim::loadVirtualPairConfig(path.string()), std::runtime_error);
+  std::filesystem::remove(path);
+}

@@ -39,8 +39,11 @@ namespace body_scan_calib::rig {
 std::vector<Eigen::Isometry3d> defaultBoardPoses();
 
 // How the reference board (pair_calibration_pipeline.h referenceBoard()) is printed: light and
-// dark squares' albedos; the panel it is mounted on is as white as its light squares.
-constexpr double kBoardLightAlbedo = 0.85, kBoardDarkAlbedo = 0.3;
+// dark squares' albedos; the panel it is mounted on is as white as its light squares. Dark as
+// black print on paper (3.5% of the light squares): with the real-capture optics
+// (body_scan_driver's sim/virtual_pair.h) the finest bit's contrast on both colours is that of real
+// captures.
+constexpr double kBoardLightAlbedo = 0.85, kBoardDarkAlbedo = 0.03;
 
 // Five spheres (radius 25 mm) about 1 m in front of the pair, numbered top left to bottom right
 // (Fig 3.7), the outer four toward the image corners where the models differ most.

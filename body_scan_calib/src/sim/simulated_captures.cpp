@@ -46,7 +46,8 @@ PairViews captureSimulatedPairViews(const VirtualPairConfig& config, const Check
 std::vector<CylinderCapture> captureSimulatedCylinder(const std::string& scene_file,
                                                       const std::vector<std::string>& pair_files,
                                                       const std::string& calibration_in,
-                                                      const std::string& save_images) {
+                                                      const std::string& save_images,
+                                                      bool ideal_optics) {
   auto scene =
       std::make_shared<body_scan_driver::sim::Scene>(body_scan_driver::sim::loadScene(scene_file));
   const body_scan_driver::sim::CalibrationCylinder* cylinder = nullptr;
@@ -59,7 +60,8 @@ std::vector<CylinderCapture> captureSimulatedCylinder(const std::string& scene_f
                              "body_scan_driver/config/scenes/calibration_cylinder.yaml");
   std::vector<CylinderCapture> captures;
   for (size_t i = 0; i < pair_files.size(); ++i) {
-    const VirtualPairConfig config = body_scan_driver::sim::loadVirtualPairConfig(pair_files[i]);
+    VirtualPairConfig config = body_scan_driver::sim::loadVirtualPairConfig(pair_files[i]);
+    if (!ideal_optics) config = body_scan_driver::sim::withRealCaptureOptics(config);
     std::cout << "[" << i + 1 << "/" << pair_files.size() << "] " << config.pair_id
               << ": capturing the cylinder (simulator)... " << std::flush;
     const VirtualPair pair(config, scene);

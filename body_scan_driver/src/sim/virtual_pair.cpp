@@ -138,8 +138,30 @@ class PixelCoverage {
   float overlaps_[kMaxStripes];
 };
 
-// The camera's optics: a Gaussian blur of sensor.blur_sigma pixels, in place.
+// Blooming and stray light, in place: image = (1 - bloom) image + bloom G(image) + stray mean.
+// The wide Gaussian runs on a copy downsampled to about half its sigma (it is smooth), so it
+// costs a fraction of the lens blur below.
+void applyBloom(const SensorModel& sensor, cv::Mat& image) {
+  if (sensor.bloom_share <= 0 && sensor.stray_light <= 0) return;
+  const cv::Scalar stray = cv::mean(image) * sensor.stray_light;
+  if (sensor.bloom_share > 0 && sensor.bloom_sigma > 0) {
+    const int factor = std::max(1, static_cast<int>(sensor.bloom_sigma / 2));
+    cv::Mat small, halo;
+    cv::resize(image, small,
+               cv::Size((image.cols + factor - 1) / factor, (image.rows + factor - 1) / factor), 0,
+               0, cv::INTER_AREA);
+    const double sigma = sensor.bloom_sigma / factor;
+    cv::GaussianBlur(small, small, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
+    cv::resize(small, halo, image.size(), 0, 0, cv::INTER_LINEAR);
+    cv::addWeighted(image, 1 - sensor.bloom_share, halo, sensor.bloom_share, 0, image);
+  }
+  if (sensor.stray_light > 0) cv::add(image, stray, image);
+}
+
+// The camera's optics: blooming and stray light, then a Gaussian blur of sensor.blur_sigma
+// pixels, in place.
 void applyOptics(const SensorModel& sensor, cv::Mat& image) {
+  applyBloom(sensor, image);
   if (sensor.blur_sigma > 0)
     cv::GaussianBlur(image, image, cv::Size(0, 0), sensor.blur_sigma, sensor.blur_sigma,
                      cv::BORDER_REPLICATE);
@@ -390,7 +412,8 @@ void VirtualPair::traceSurfaces(const std::vector<const VirtualPair*>& also_proj
 }
 
 std::vector<float> VirtualPair::stripeFootprints(const std::vector<SurfaceSample>& samples,
-                                                 int rows, int cols) {
+                                                 int rows, int cols, double line_width) {
+  const float line = static_cast<float>(line_width);
   std::vector<float> footprint(samples.size(), 0.f);
   auto stripe_at = [&](int v, int u) {
     return (u < 0 || v < 0 || u >= cols || v >= rows)
@@ -403,7 +426,10 @@ std::vector<float> VirtualPair::stripeFootprints(const std::vector<SurfaceSample
       if (std::isnan(s)) continue;
       const float du = smallerStep(s, stripe_at(v, u - 1), stripe_at(v, u + 1));
       const float dv = smallerStep(s, stripe_at(v - 1, u), stripe_at(v + 1, u));
-      footprint[static_cast<size_t>(v) * cols + u] = std::min(std::hypot(du, dv), kMaxFootprint);
+      // Two box filters in a row as one box of their summed variance.
+      const float camera = std::hypot(du, dv);
+      footprint[static_cast<size_t>(v) * cols + u] =
+          std::min(line > 0 ? std::hypot(camera, line) : camera, kMaxFootprint);
     }
   return footprint;
 }
@@ -462,7 +488,8 @@ RenderedPatternSet VirtualPair::render(
   traceSurfaces(also_projecting, result.truth, samples, foreign);
   // Stripe footprint of each pixel: how much of the coordinate its area spans (antialiasing
   // keeps the subpixel position of stripe edges in the image, as a real sensor does).
-  const std::vector<float> footprint = stripeFootprints(samples, rows, cols);
+  const std::vector<float> footprint =
+      stripeFootprints(samples, rows, cols, config_.projector.line_width);
   const std::vector<uint32_t> lit_frames = framesLighting(layout_);
 
   const int frames = layout_.frameCount();
@@ -485,6 +512,17 @@ RenderedPatternSet VirtualPair::render(
   applyOptics(sensor, texture);
   addNoise(texture, sensor, noise_, scan_id, 0, result.texture);
   return result;
+}
+
+VirtualPairConfig withRealCaptureOptics(VirtualPairConfig config, const RealCaptureOptics& optics) {
+  if (config.projector.line_width == 0) config.projector.line_width = optics.line_width;
+  SensorModel& sensor = config.sensor;
+  if (sensor.bloom_share == 0) {
+    sensor.bloom_share = optics.bloom_share;
+    sensor.bloom_sigma = optics.bloom_sigma;
+  }
+  if (sensor.stray_light == 0) sensor.stray_light = optics.stray_light;
+  return config;
 }
 
 PairCalibration VirtualPair::factoryCalibration() const {

@@ -5,8 +5,8 @@
 #include <stdexcept>
 
 #include "../pair_pose_yaml.h"
-#include "virtual_pair_keys.h"
 #include "../yaml_file.h"
+#include "virtual_pair_keys.h"
 
 namespace body_scan_driver::sim {
 namespace {
@@ -45,12 +45,13 @@ void applyPairKeys(const YAML::Node& root, const std::string& path, VirtualPairC
                    path + ": camera");
   requireKnownKeys(root["pattern"], {"bits", "inverse_frames"}, path + ": pattern");
   requireKnownKeys(root["sensor"],
-                   {"noise_sigma", "blur_sigma", "ambient", "projector_level", "seed"},
+                   {"noise_sigma", "blur_sigma", "ambient", "bloom_share", "bloom_sigma",
+                    "stray_light", "projector_level", "seed"},
                    path + ": sensor");
   requireKnownKeys(
       root["projector"],
       {"mirror_axis_point", "mirror_axis", "mirror_offset", "laser_origin", "laser_direction",
-       "first_mirror_angle_deg", "last_mirror_angle_deg", "fan_half_angle_deg"},
+       "first_mirror_angle_deg", "last_mirror_angle_deg", "fan_half_angle_deg", "line_width"},
       path + ": projector");
   optional(root, "pair_id", config.pair_id, path);
 
@@ -84,6 +85,12 @@ void applyPairKeys(const YAML::Node& root, const std::string& path, VirtualPairC
   optional(sensor, "noise_sigma", s.noise_sigma, sensor_where);
   optional(sensor, "blur_sigma", s.blur_sigma, sensor_where);
   optional(sensor, "ambient", s.ambient, sensor_where);
+  optional(sensor, "bloom_share", s.bloom_share, sensor_where);
+  optional(sensor, "bloom_sigma", s.bloom_sigma, sensor_where);
+  optional(sensor, "stray_light", s.stray_light, sensor_where);
+  if (s.bloom_share < 0 || s.bloom_share > 1 || s.bloom_sigma < 0 || s.stray_light < 0)
+    throw std::runtime_error(sensor_where +
+                             ": bloom_share must be in [0, 1], bloom_sigma and stray_light >= 0");
   optional(sensor, "projector_level", s.projector_level, sensor_where);
   optional(sensor, "seed", s.seed, sensor_where);
 
@@ -100,6 +107,9 @@ void applyPairKeys(const YAML::Node& root, const std::string& path, VirtualPairC
   optional(projector, "first_mirror_angle_deg", first_deg, projector_where);
   optional(projector, "last_mirror_angle_deg", last_deg, projector_where);
   optional(projector, "fan_half_angle_deg", fan_deg, projector_where);
+  optional(projector, "line_width", p.line_width, projector_where);
+  if (p.line_width < 0 || p.line_width > 3)
+    throw std::runtime_error(projector_where + ": line_width must be in [0, 3] stripes");
   p.first_mirror_angle = first_deg * kDegree;
   p.last_mirror_angle = last_deg * kDegree;
   p.fan_half_angle = fan_deg * kDegree;

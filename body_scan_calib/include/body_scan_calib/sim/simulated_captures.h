@@ -20,13 +20,15 @@ PairViews captureSimulatedPairViews(const body_scan_driver::sim::VirtualPairConf
                                     const Checkerboard& board, int exposures,
                                     const std::string& save_images = "");
 
-// Every pair file's pair renders the cylinder scene `scene_file` once. Each pair aligns its
+// Every pair file's pair renders the cylinder scene `scene_file` once (with the real-capture
+// optics, virtual_pair.h, unless ideal_optics). Each pair aligns its
 // calibration from `calibration_in` (calibrationToAlign), else the simulator's factory one.
 // With `save_images`, also writes each capture for align_world (saveCylinderCapture). Throws
 // std::runtime_error if the scene has no calibration_cylinder object.
 std::vector<CylinderCapture> captureSimulatedCylinder(const std::string& scene_file,
                                                       const std::vector<std::string>& pair_files,
                                                       const std::string& calibration_in,
-                                                      const std::string& save_images = "");
+                                                      const std::string& save_images = "",
+                                                      bool ideal_optics = false);
 
 }  // namespace body_scan_calib::sim

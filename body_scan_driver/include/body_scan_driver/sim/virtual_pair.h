@@ -31,6 +31,10 @@ struct SweptLaserProjector {
   double fan_half_angle = 0.6;
   double first_mirror_angle = 0.7505;  // at stripe coordinate 0 (~43 deg): beam 4 deg up
   double last_mirror_angle = 1.0996;   // at coordinate stripe_count (~63 deg): beam 36 deg down
+  // Width of the projected line (the projector's pixel footprint), in stripes: each frame's
+  // pattern is box-averaged over it, on top of the camera pixel's own footprint. 0: a sharp line
+  // (ideal edges); > 1: a projector pixel wider than its stripe, which blurs the finest bits.
+  double line_width = 0.0;
 
   struct Plane {
     Eigen::Vector3d normal;   // unit
@@ -53,11 +57,17 @@ struct SweptLaserProjector {
 
 // Optics and noise. Defaults are the suite's documented defaults used by every test unless it
 // says otherwise: sensor noise 2 grey levels (of 255), blur 0.7 px, ambient light 10% of the
-// projector's brightness.
+// projector's brightness, no blooming or stray light.
 struct SensorModel {
   double noise_sigma = 2.0;
   double blur_sigma = 0.7;
   double ambient = 0.1;
+  // Blooming: this share of every pixel's light spreads over a Gaussian of bloom_sigma pixels
+  // (bright squares spill into dark ones); stray light: this share of the frame's mean level
+  // added everywhere (interreflection, veiling glare). 0: off.
+  double bloom_share = 0.0;
+  double bloom_sigma = 8.0;
+  double stray_light = 0.0;
   double projector_level = 200.0;  // grey level of a white (albedo 1) surface lit head-on at 1 m
   uint32_t seed = 1;
 };
@@ -71,6 +81,20 @@ struct VirtualPairConfig {
   bool inverse_frames = true;
   Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();
 };
+
+// The optics of real captures, matched on a public real capture set (a DLP projector's Gray code
+// on a printed board; body_scan_calib's evaluate_pattern_contrast): the finest bit's |pattern -
+// inverse| on the board's dark and light squares has the real set's percentiles. The projected
+// line is 2.5 stripes wide (the finest bit keeps about half its contrast), 10% of the light blooms
+// over 10 px and 2% of the frame's mean is stray light. The simulated calibration tools render
+// with it unless told --ideal-optics.
+struct RealCaptureOptics {
+  double line_width = 2.5;  // stripes (SweptLaserProjector::line_width)
+  double bloom_share = 0.1, bloom_sigma = 10.0, stray_light = 0.02;  // SensorModel
+};
+// `config` with these optics where it leaves them off (0), so a pair file's own values stay.
+VirtualPairConfig withRealCaptureOptics(VirtualPairConfig config,
+                                        const RealCaptureOptics& optics = {});
 
 // Camera pose from a position and a heading: the rig layout's (rig_layout.h), for pair files.
 using body_scan_driver::cameraPose;
@@ -131,8 +155,9 @@ class VirtualPair {
   void traceSurfaces(const std::vector<const VirtualPair*>& also_projecting, GroundTruth& truth,
                      std::vector<SurfaceSample>& samples,
                      std::vector<std::vector<ForeignLight>>& foreign) const;
+  // Each pixel's footprint in stripes: the camera pixel's and the projector's line_width.
   static std::vector<float> stripeFootprints(const std::vector<SurfaceSample>& samples, int rows,
-                                             int cols);
+                                             int cols, double line_width);
   // Every frame's image before optics and noise, rows [row_begin, row_end): lit_frames[k] has
   // bit f set where frame f lights stripe k.
   void shadeFrames(const std::vector<uint32_t>& lit_frames,
