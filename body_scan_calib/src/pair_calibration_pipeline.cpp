@@ -14,23 +14,6 @@
 namespace body_scan_calib {
 namespace {
 
-// The pixels of `region` whose lit - dark contrast is at least `share` of the region's 75th
-// percentile (the light squares of a checkerboard).
-cv::Mat1b lightSquares(const cv::Mat1b& region, const cv::Mat& lit, const cv::Mat& dark,
-                       double share) {
-  if (share <= 0) return region;
-  cv::Mat1s contrast;
-  cv::subtract(lit, dark, contrast, cv::noArray(), CV_16S);
-  std::vector<short> values;
-  for (int v = 0; v < region.rows; ++v)
-    for (int u = 0; u < region.cols; ++u)
-      if (region(v, u)) values.push_back(contrast(v, u));
-  if (values.empty()) return region;
-  const auto light = values.begin() + values.size() * 3 / 4;
-  std::nth_element(values.begin(), light, values.end());
-  return region & (contrast >= share * *light);
-}
-
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // A joint refinement that worsens the corner rms by more than this factor is refused: the
 // stripe points would be pulling the camera off its corners.
@@ -158,13 +141,9 @@ PairCalibrationOutcome calibratePair(const std::vector<std::vector<cv::Mat>>& po
         pose_frames[pose],
         pose < pose_cross_frames.size() ? pose_cross_frames[pose] : std::vector<cv::Mat>(), layout,
         options.decoding);
-    const cv::Mat1b region =
-        boardRegion(outcome.camera.camera, outcome.camera.board_to_camera[pose], options.board);
     observations.push_back(
         {outcome.camera.board_to_camera[pose], stripes.coordinate.clone(),
-         lightSquares(region, pose_frames[pose][body_scan_driver::PatternLayout::litFrame()],
-                      pose_frames[pose][body_scan_driver::PatternLayout::darkFrame()],
-                      options.min_board_contrast_share)});
+         boardRegion(outcome.camera.camera, outcome.camera.board_to_camera[pose], options.board)});
     report("projector: decoded pose " + std::to_string(pose + 1) + "/" +
            std::to_string(pose_frames.size()));
   }

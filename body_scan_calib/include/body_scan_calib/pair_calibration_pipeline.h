@@ -58,10 +58,6 @@ struct PairCalibrationOptions {
   ProjectorCalibrationOptions projector;
   bool joint_refinement = true;  // Ceres: camera + board poses + planes together
   RobustDecoding decoding;       // capture_decoding.h (off: the driver's decoder as is)
-  // Board pixels that observe the stripe planes: lit - dark contrast at least this share of the
-  // light squares' (the 75th percentile over the board). Black print returns a few grey levels,
-  // too little to decode reliably, and would pull the planes; 0 keeps every board pixel.
-  double min_board_contrast_share = 0.5;
   std::string pair_id = "pair";
 };
 
