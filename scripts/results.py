@@ -7,8 +7,8 @@ the command and its wall time.
 
 The tools run from the devel space (build/devel, `make build` first). Their outputs go to
 build/results/; the pictures the tools draw go to docs/calibration/ and docs/images/. Fits of
-evaluate_gait_id are cached in build/results/fit_cache (a re-run of the same build reuses them; a
-rebuilt library changes every key; delete the folder to measure from scratch). --quick (RESULTS_QUICK=1) runs smaller sizes, stated in each table.
+evaluate_gait_id are cached in build/results/fit_cache (a re-run reuses them; delete the folder to
+measure from scratch). --quick (RESULTS_QUICK=1) runs smaller sizes, stated in each table.
 """
 import argparse
 import datetime

@@ -1,12 +1,9 @@
 #include <body_gait_id/eval/fit_cache.h>
 #include <body_gait_id/models_file.h>
 #include <body_scan_driver/atomic_file.h>
-#include <elf.h>
-#include <link.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <sstream>
 
@@ -29,50 +26,7 @@ void fnv1a(std::uint64_t& hash, const void* data, std::size_t size) {
   }
 }
 
-// Appends `name=<build id hex>;` of a loaded object's GNU build-id note, if it has one.
-void appendBuildId(const dl_phdr_info& object, const std::string& name, std::string& out) {
-  for (int h = 0; h < object.dlpi_phnum; ++h) {
-    const ElfW(Phdr)& header = object.dlpi_phdr[h];
-    if (header.p_type != PT_NOTE) continue;
-    const auto* note = reinterpret_cast<const unsigned char*>(object.dlpi_addr + header.p_vaddr);
-    const unsigned char* const end = note + header.p_memsz;
-    while (note + sizeof(ElfW(Nhdr)) <= end) {
-      const auto* entry = reinterpret_cast<const ElfW(Nhdr)*>(note);
-      const unsigned char* const entry_name = note + sizeof(ElfW(Nhdr));
-      const unsigned char* const desc = entry_name + ((entry->n_namesz + 3) & ~3u);
-      if (entry->n_type == NT_GNU_BUILD_ID && entry->n_namesz == 4 &&
-          std::memcmp(entry_name, "GNU", 4) == 0 && desc + entry->n_descsz <= end) {
-        out += name + "=";
-        char hex[3];
-        for (unsigned i = 0; i < entry->n_descsz; ++i) {
-          std::snprintf(hex, sizeof(hex), "%02x", desc[i]);
-          out += hex;
-        }
-        out += ";";
-        return;
-      }
-      note = desc + ((entry->n_descsz + 3) & ~3u);
-    }
-  }
-}
-
 }  // namespace
-
-std::string loadedCodeIdentity() {
-  static const std::string identity = [] {
-    std::string out;
-    dl_iterate_phdr(
-        [](dl_phdr_info* object, std::size_t, void* data) {
-          const std::string name = std::filesystem::path(object->dlpi_name).filename().string();
-          if (name.rfind("libbody_", 0) == 0)
-            appendBuildId(*object, name, *static_cast<std::string*>(data));
-          return 0;
-        },
-        &out);
-    return out;
-  }();
-  return identity;
-}
 
 std::string serializeFit(const CachedFit& fit) {
   std::ostringstream out;
@@ -93,8 +47,6 @@ std::string scanKey(const body_scan_driver::sim::HumanBodySpec& spec, const std:
   // angles keep their keys.
   if (spec.segment_frames) fnv1a(hash, &*spec.segment_frames, sizeof(*spec.segment_frames));
   fnv1a(hash, scanner.data(), scanner.size());
-  const std::string code = loadedCodeIdentity();
-  fnv1a(hash, code.data(), code.size());
   char text[17];
   std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash));
   return text;

@@ -22,15 +22,11 @@ struct CachedFit {
 std::string serializeFit(const CachedFit& fit);
 
 // Key of everything a scan depends on: the spec's numbers (body, pose, materials, position; as
-// raw bytes, so a field added to them changes the key), the scanner's settings (a string the
-// caller makes, e.g. "sampler columns=320 noise=0.002") and the code that scans and fits
-// (loadedCodeIdentity). 16 hex digits.
+// raw bytes, so a field added to them changes the key) and the scanner's settings (a string the
+// caller makes, e.g. "sampler columns=320 noise=0.002"). 16 hex digits. Not the code: a cache
+// folder also serves as a frozen set of fits (the walk-session rostests' gallery), so clear an
+// evaluation's cache after changing the fitter or the simulator.
 std::string scanKey(const body_scan_driver::sim::HumanBodySpec& spec, const std::string& scanner);
-
-// The project's libraries loaded in this process (libbody_*), each with its GNU build id, e.g.
-// "libbody_gait_model.so=cb6c...;": a rebuilt simulator or fitter makes every key new, so a
-// cache never returns fits of older code. Empty when the libraries carry no build id.
-std::string loadedCodeIdentity();
 
 class FitCache {
  public:
