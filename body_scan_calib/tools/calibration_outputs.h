@@ -45,7 +45,7 @@ inline void addIdealOpticsFlag(CLI::App& app, bool& ideal_optics) {
   app.add_flag("--ideal-optics", ideal_optics,
                "render with the pair file's optics as they are (default: add the optics of real "
                "captures where the pair leaves them off: a 2.5-stripe projected line, blooming, "
-               "stray light)");
+               "stray light, shot noise)");
 }
 
 // --board-cols, --board-rows (inner corners) and --square (metres); `board` holds the defaults.

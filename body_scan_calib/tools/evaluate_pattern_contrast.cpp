@@ -1,7 +1,8 @@
 // evaluate_pattern_contrast: the finest Gray-code bit's |pattern - inverse| on a checkerboard's
 // dark and light squares (eval/pattern_contrast.h), of a recorded capture folder and of the
 // simulator's renders of its own board in the rig's poses, side by side: how close the
-// simulator's decoding difficulty is to real captures'.
+// simulator's decoding difficulty is to real captures'. Then the sensor noise against signal level
+// of both (eval::sensorNoiseByLevel).
 //
 //   evaluate_pattern_contrast --images CAPTURES --layout opencv --projector-width 1024
 //       --board-cols 9 --board-rows 7 [--pair PAIR_FILE] [--poses 16]
@@ -19,7 +20,8 @@ int main(int argc, char** argv) {
   CLI::App app(
       "Prints the distribution (percentiles, histogram) of the finest Gray-code bit's |pattern - "
       "inverse| on a checkerboard's dark and light squares: of the recorded captures (--images) "
-      "and of the simulator's renders of its board in the calibration rig's poses.",
+      "and of the simulator's renders of its board in the calibration rig's poses; then both "
+      "sets' sensor noise by signal level.",
       "evaluate_pattern_contrast");
   std::string images, pair;
   int poses = 16;
@@ -71,7 +73,14 @@ int main(int argc, char** argv) {
         rendered, body_scan_driver::PatternLayout(config.bits, true), simulated_board, edge_margin);
     std::cout << "finest Gray-code bit on the board: recorded " << real.poses
               << " poses, simulated " << simulated.poses << " poses\n"
-              << eval::contrastTable("real", real, "sim", simulated);
+              << eval::contrastTable("real", real, "sim", simulated) << "\n"
+              << eval::noiseTable(
+                     "real",
+                     eval::sensorNoiseByLevel(
+                         recorded, body_scan_driver::PatternLayout(bits.stripe_bits, true)),
+                     "sim",
+                     eval::sensorNoiseByLevel(rendered,
+                                              body_scan_driver::PatternLayout(config.bits, true)));
   } catch (const std::exception& e) {
     std::cerr << "evaluate_pattern_contrast: " << e.what() << "\n";
     return 1;

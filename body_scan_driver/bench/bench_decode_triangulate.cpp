@@ -13,10 +13,10 @@
 // single_pair scene. Cache: "hot" repeats one set (it stays in cache); "stream" cycles through
 // 8 sets (44 MB, more than the last-level cache), as pattern sets arriving from a camera do.
 // RenderPatternSet times the virtual pair (2 threads), on the plane also with the optics of real
-// captures (.../plane_real_optics: a 2.5-stripe line, blooming, stray light; ratio against
-// .../plane); RenderPersonSet1Thread one person's set on
-// one thread, the mesh human (ours) against the ellipsoid body. Every case runs kRepetitions times;
-// scripts/bench_report.py takes the medians and prints the ratios against .../ours.
+// captures (.../plane_real_optics: a 2.5-stripe line, blooming, stray light, shot noise; ratio
+// against .../plane); RenderPersonSet1Thread one person's set on one thread, the mesh human (ours)
+// against the ellipsoid body. Every case runs kRepetitions times; scripts/bench_report.py takes the
+// medians and prints the ratios against .../ours.
 #include <benchmark/benchmark.h>
 #include <body_scan_driver/pair_device.h>
 #include <body_scan_driver/sim/data_paths.h>

@@ -101,6 +101,35 @@ TEST(VirtualPair, RenderingIsDeterministicPerSeedAndScan) {
   EXPECT_LT(deviation[0], 2.9);
 }
 
+TEST(VirtualPair, ShotNoiseGrowsWithTheSignal) {
+  // Two scans of the same plane differ by the noise alone: per pixel of true level L, variance
+  // 2 (read^2 + gain L) + 2/12 (8-bit quantization of each), in the bright lit frame and in the
+  // dim dark frame (ambient light only).
+  sim::VirtualPairConfig config = test::pairLookingAlongX(0.0);
+  const std::vector<cv::Mat> truth =
+      sim::VirtualPair(config, test::planeScene(1.0)).render(1).frames;
+  config.sensor.noise_sigma = 0.5;
+  config.sensor.shot_noise_gain = 0.1;
+  const sim::VirtualPair pair(config, test::planeScene(1.0));
+  const std::vector<cv::Mat> first = pair.render(1).frames, second = pair.render(2).frames;
+  for (int frame : {PatternLayout::litFrame(), PatternLayout::darkFrame()}) {
+    const cv::Scalar level = cv::mean(truth[frame]);
+    cv::Mat difference;
+    cv::subtract(first[frame], second[frame], difference, cv::noArray(), CV_32F);
+    cv::Scalar mean, deviation;
+    cv::meanStdDev(difference, mean, deviation);
+    const double expected = std::sqrt(2 * (0.25 + 0.1 * level[0]) + 2.0 / 12);
+    std::cout << "[ figure ] frame " << frame << ", level " << level[0] << ": scan-to-scan sd "
+              << deviation[0] << " (expected " << expected << ")\n";
+    EXPECT_NEAR(deviation[0], expected, 0.05 * expected) << frame;
+  }
+  // The real-capture profile brings the real camera's noise unless the pair has shot noise.
+  const sim::VirtualPairConfig real = sim::withRealCaptureOptics({});
+  EXPECT_DOUBLE_EQ(real.sensor.noise_sigma, sim::RealCaptureOptics{}.noise_sigma);
+  EXPECT_DOUBLE_EQ(real.sensor.shot_noise_gain, sim::RealCaptureOptics{}.shot_noise_gain);
+  EXPECT_DOUBLE_EQ(sim::withRealCaptureOptics(config).sensor.noise_sigma, 0.5);
+}
+
 TEST(VirtualPair, PairFileTyposAreErrorsAndTheDefaultFileLoads) {
   const auto path = std::filesystem::temp_directory_path() /
                     ("body_scan_test_pair_" + std::to_string(::getpid()) + ".yaml");
@@ -178,12 +207,14 @@ TEST(VirtualPair, RealCaptureOpticsBlurTheFinestBitAndSpillLight) {
 TEST(VirtualPair, OpticsKeysAreReadAndCheckedFromPairFiles) {
   const auto path = std::filesystem::temp_directory_path() /
                     ("body_scan_test_optics_" + std::to_string(::getpid()) + ".yaml");
-  std::ofstream(path) << "sensor: {bloom_share: 0.2, bloom_sigma: 6, stray_light: 0.01}\n"
+  std::ofstream(path) << "sensor: {bloom_share: 0.2, bloom_sigma: 6, stray_light: 0.01, "
+                         "shot_noise_gain: 0.05}\n"
                       << "projector: {line_width: 1.5}\n";
   const auto config = sim::loadVirtualPairConfig(path.string());
   EXPECT_DOUBLE_EQ(config.sensor.bloom_share, 0.2);
   EXPECT_DOUBLE_EQ(config.sensor.bloom_sigma, 6.0);
   EXPECT_DOUBLE_EQ(config.sensor.stray_light, 0.01);
+  EXPECT_DOUBLE_EQ(config.sensor.shot_noise_gain, 0.05);
   EXPECT_DOUBLE_EQ(config.projector.line_width, 1.5);
   // The real-capture optics fill only what a pair file leaves off.
   const auto real = sim::withRealCaptureOptics(config);
@@ -193,6 +224,8 @@ TEST(VirtualPair, OpticsKeysAreReadAndCheckedFromPairFiles) {
   std::ofstream(path) << "sensor: {bloom_share: 1.5}\n";
   EXPECT_THROW(sim::loadVirtualPairConfig(path.string()), std::runtime_error);
   std::ofstream(path) << "projector: {line_width: -1}\n";
+  EXPECT_THROW(sim::loadVirtualPairConfig(path.string()), std::runtime_error);
+  std::ofstream(path) << "sensor: {shot_noise_gain: -0.1}\n";
   EXPECT_THROW(sim::loadVirtualPairConfig(path.string()), std::runtime_error);
   std::filesystem::remove(path);
 }

@@ -162,4 +162,102 @@ std::string contrastTable(const std::string& name_a, const BoardContrast& a,
   return text;
 }
 
+std::array<NoiseAtLevel, kNoiseLevelEdges.size() - 1> sensorNoiseByLevel(
+    const std::vector<std::vector<cv::Mat>>& pose_frames,
+    const body_scan_driver::PatternLayout& layout, int coarse_bits) {
+  if (!layout.inverseFrames())
+    throw std::invalid_argument("sensorNoiseByLevel needs inverse frames");
+  constexpr int kWindow = 5, kStateWindow = 9;
+  constexpr size_t kBands = kNoiseLevelEdges.size() - 1;
+  std::array<std::vector<float>, kBands> differences, levels;
+  for (const std::vector<cv::Mat>& frames : pose_frames) {
+    if (static_cast<int>(frames.size()) != layout.frameCount())
+      throw std::invalid_argument("sensorNoiseByLevel: " + std::to_string(frames.size()) +
+                                  " frames for a layout of " + std::to_string(layout.frameCount()));
+    cv::Mat lit, unlit;
+    frames[body_scan_driver::PatternLayout::litFrame()].convertTo(lit, CV_32F);
+    frames[body_scan_driver::PatternLayout::darkFrame()].convertTo(unlit, CV_32F);
+    const cv::Mat threshold = cv::max(0.5 * (lit - unlit), 4.0);
+    const cv::Mat state_kernel = cv::Mat::ones(kStateWindow, kStateWindow, CV_8U);
+    for (int bit = 0; bit < std::min(coarse_bits, layout.bits()); ++bit) {
+      cv::Mat pattern, inverse;
+      frames[layout.patternFrame(bit)].convertTo(pattern, CV_32F);
+      frames[layout.inverseFrame(bit)].convertTo(inverse, CV_32F);
+      const cv::Mat difference = pattern - inverse;
+      cv::Mat pattern_lit = difference > threshold, inverse_lit = difference < -threshold;
+      cv::erode(pattern_lit, pattern_lit, state_kernel);
+      cv::erode(inverse_lit, inverse_lit, state_kernel);
+      cv::Mat decided = pattern_lit | inverse_lit;
+      cv::erode(decided, decided, cv::Mat::ones(kWindow, kWindow, CV_8U));
+      cv::Mat lit_frame = inverse.clone(), dark_frame = pattern.clone();
+      pattern.copyTo(lit_frame, pattern_lit);
+      inverse.copyTo(dark_frame, pattern_lit);
+      for (const auto& [all, one] : {std::pair{&lit, &lit_frame}, {&unlit, &dark_frame}}) {
+        const cv::Mat change = *all - *one;
+        cv::Mat local_mean;
+        cv::blur(change, local_mean, cv::Size(kWindow, kWindow), cv::Point(-1, -1),
+                 cv::BORDER_REPLICATE);
+        for (int v = 0; v < change.rows; ++v)
+          for (int u = 0; u < change.cols; ++u) {
+            if (!decided.at<uint8_t>(v, u)) continue;
+            const float a = all->at<float>(v, u), b = one->at<float>(v, u);
+            if (a >= kNoiseLevelEdges.back() || b >= kNoiseLevelEdges.back()) continue;
+            const float level = 0.5f * (a + b);
+            size_t band = 0;
+            while (band + 1 < kBands && level >= kNoiseLevelEdges[band + 1]) ++band;
+            differences[band].push_back(change.at<float>(v, u) - local_mean.at<float>(v, u));
+            levels[band].push_back(level);
+          }
+      }
+    }
+  }
+  std::array<NoiseAtLevel, kBands> result;
+  auto standardDeviation = [](const std::vector<float>& x, double cut) {
+    double sum = 0, squares = 0;
+    size_t n = 0;
+    for (float value : x)
+      if (std::abs(value) <= cut) sum += value, squares += double{value} * value, ++n;
+    if (n == 0) return 0.0;
+    const double mean = sum / n;
+    return std::sqrt(std::max(0.0, squares / n - mean * mean));
+  };
+  for (size_t band = 0; band < kBands; ++band) {
+    if (differences[band].empty()) continue;
+    const double all = standardDeviation(differences[band], 1e30);
+    std::vector<float> kept;
+    for (float value : differences[band])
+      if (std::abs(value) <= 4 * all) kept.push_back(value);
+    double level_sum = 0;
+    for (float level : levels[band]) level_sum += level;
+    result[band].samples = kept.size();
+    result[band].level = level_sum / levels[band].size();
+    result[band].sigma =
+        standardDeviation(kept, 1e30) / std::sqrt(2.0 * (1.0 - 1.0 / (kWindow * kWindow)));
+  }
+  return result;
+}
+
+std::string noiseTable(const std::string& name_a,
+                       const std::array<NoiseAtLevel, kNoiseLevelEdges.size() - 1>& a,
+                       const std::string& name_b,
+                       const std::array<NoiseAtLevel, kNoiseLevelEdges.size() - 1>& b) {
+  std::string text;
+  char line[256];
+  std::snprintf(line, sizeof line, "%-16s %10s %8s %8s   %10s %8s %8s\n", "noise by level",
+                ("pixels " + name_a).c_str(), "level", "sigma", ("pixels " + name_b).c_str(),
+                "level", "sigma");
+  text += line;
+  for (size_t band = 0; band < a.size(); ++band) {
+    if (a[band].samples == 0 && b[band].samples == 0) continue;
+    char name[32];
+    std::snprintf(name, sizeof name, "[%d, %d)", kNoiseLevelEdges[band],
+                  kNoiseLevelEdges[band + 1]);
+    std::snprintf(line, sizeof line, "%-16s %10zu %8.1f %8.2f   %10zu %8.1f %8.2f\n", name,
+                  a[band].samples, a[band].level, a[band].sigma, b[band].samples, b[band].level,
+                  b[band].sigma);
+    text += line;
+  }
+  return text;
+}
+
 }  // namespace body_scan_calib::eval

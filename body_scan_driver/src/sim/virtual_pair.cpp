@@ -169,11 +169,14 @@ void applyOptics(const SensorModel& sensor, cv::Mat& image) {
 
 // Sensor noise, then quantization to 8 bits. The samples come from the precomputed unit
 // Gaussian table at an offset mixed from the seed, scan and image (stream), so that renders are
-// deterministic and images differ.
+// deterministic and images differ. kShotNoise: the noise's sigma grows with the signal
+// (SensorModel::shot_noise_gain); without it the flat-noise renders stay bit for bit as they were.
+template <bool kShotNoise>
 void addNoise(const cv::Mat& image, const SensorModel& sensor, const std::vector<float>& noise,
               uint32_t scan_id, uint64_t stream, cv::Mat& out) {
   size_t offset = mix(mix(sensor.seed) ^ mix(scan_id) ^ stream);
   const float sigma = static_cast<float>(sensor.noise_sigma);
+  const float read_variance = sigma * sigma, gain = static_cast<float>(sensor.shot_noise_gain);
   out.create(image.size(), CV_MAKETYPE(CV_8U, image.channels()));
   const int values = image.cols * image.channels();
   for (int v = 0; v < image.rows; ++v) {
@@ -183,7 +186,8 @@ void addNoise(const cv::Mat& image, const SensorModel& sensor, const std::vector
 #if CV_SIMD128
     // Same arithmetic as the scalar tail (no fused multiply-add, round to nearest even,
     // saturate), 16 values at a time over runs where the table does not wrap.
-    const cv::v_float32x4 scale = cv::v_setall_f32(sigma);
+    const cv::v_float32x4 scale = cv::v_setall_f32(sigma), floor = cv::v_setall_f32(read_variance),
+                          slope = cv::v_setall_f32(gain), zero = cv::v_setzero_f32();
     while (values - i >= 16) {
       const size_t start = offset & (kNoiseTableSize - 1);
       const int run = static_cast<int>(std::min<size_t>(values - i, kNoiseTableSize - start)) & ~15;
@@ -191,17 +195,31 @@ void addNoise(const cv::Mat& image, const SensorModel& sensor, const std::vector
       const float* n = noise.data() + start;
       for (int j = 0; j < run; j += 16) {
         cv::v_int32x4 q[4];
-        for (int k = 0; k < 4; ++k)
-          q[k] = cv::v_round(cv::v_load(in + i + j + 4 * k) + scale * cv::v_load(n + j + 4 * k));
+        for (int k = 0; k < 4; ++k) {
+          const cv::v_float32x4 x = cv::v_load(in + i + j + 4 * k);
+          const cv::v_float32x4 s =
+              kShotNoise ? cv::v_sqrt(floor + slope * cv::v_max(x, zero)) : scale;
+          q[k] = cv::v_round(x + s * cv::v_load(n + j + 4 * k));
+        }
         cv::v_store(o + i + j, cv::v_pack_u(cv::v_pack(q[0], q[1]), cv::v_pack(q[2], q[3])));
       }
       i += run;
       offset += run;
     }
 #endif
-    for (; i < values; ++i)
-      o[i] = cv::saturate_cast<uint8_t>(in[i] + sigma * noise[offset++ & (kNoiseTableSize - 1)]);
+    for (; i < values; ++i) {
+      const float s = kShotNoise ? std::sqrt(read_variance + gain * std::max(in[i], 0.f)) : sigma;
+      o[i] = cv::saturate_cast<uint8_t>(in[i] + s * noise[offset++ & (kNoiseTableSize - 1)]);
+    }
   }
+}
+
+void addNoise(const cv::Mat& image, const SensorModel& sensor, const std::vector<float>& noise,
+              uint32_t scan_id, uint64_t stream, cv::Mat& out) {
+  if (sensor.shot_noise_gain > 0)
+    addNoise<true>(image, sensor, noise, scan_id, stream, out);
+  else
+    addNoise<false>(image, sensor, noise, scan_id, stream, out);
 }
 
 }  // namespace
@@ -522,6 +540,10 @@ VirtualPairConfig withRealCaptureOptics(VirtualPairConfig config, const RealCapt
     sensor.bloom_sigma = optics.bloom_sigma;
   }
   if (sensor.stray_light == 0) sensor.stray_light = optics.stray_light;
+  if (sensor.shot_noise_gain == 0) {
+    sensor.noise_sigma = optics.noise_sigma;
+    sensor.shot_noise_gain = optics.shot_noise_gain;
+  }
   return config;
 }
 

@@ -45,8 +45,8 @@ void applyPairKeys(const YAML::Node& root, const std::string& path, VirtualPairC
                    path + ": camera");
   requireKnownKeys(root["pattern"], {"bits", "inverse_frames"}, path + ": pattern");
   requireKnownKeys(root["sensor"],
-                   {"noise_sigma", "blur_sigma", "ambient", "bloom_share", "bloom_sigma",
-                    "stray_light", "projector_level", "seed"},
+                   {"noise_sigma", "shot_noise_gain", "blur_sigma", "ambient", "bloom_share",
+                    "bloom_sigma", "stray_light", "projector_level", "seed"},
                    path + ": sensor");
   requireKnownKeys(
       root["projector"],
@@ -83,6 +83,9 @@ void applyPairKeys(const YAML::Node& root, const std::string& path, VirtualPairC
   const std::string sensor_where = path + ": sensor";
   SensorModel& s = config.sensor;
   optional(sensor, "noise_sigma", s.noise_sigma, sensor_where);
+  optional(sensor, "shot_noise_gain", s.shot_noise_gain, sensor_where);
+  if (s.noise_sigma < 0 || s.shot_noise_gain < 0)
+    throw std::runtime_error(sensor_where + ": noise_sigma and shot_noise_gain must be >= 0");
   optional(sensor, "blur_sigma", s.blur_sigma, sensor_where);
   optional(sensor, "ambient", s.ambient, sensor_where);
   optional(sensor, "bloom_share", s.bloom_share, sensor_where);

@@ -42,6 +42,29 @@ BoardContrast finestBitContrastOnBoard(const std::vector<std::vector<cv::Mat>>& 
                                        const body_scan_driver::PatternLayout& layout,
                                        const Checkerboard& board, double edge_margin_px = 2.0);
 
+// Temporal sensor noise against signal level, from the frames themselves: a pixel is in the same
+// projector state (lit or dark) in the all-lit (all-dark) frame and in one frame of each of the
+// `coarse_bits` most significant bits' pattern/inverse pairs, where that pair differs by more
+// than max(4, half the lit - dark range) throughout its 9x9 neighbourhood. The two frames'
+// difference minus its 5x5 mean (the smooth, pattern-dependent light: stray light, blooming, the
+// projector's frame-to-frame brightness) leaves the noise: sigma = sd / sqrt(2 (1 - 1/25)), per
+// band of the pixel's level (kNoiseLevelEdges), differences beyond 4 sd trimmed. Saturated pixels
+// (>= 250) and rows without the coarse bits (trimmed) are left out.
+constexpr std::array<int, 8> kNoiseLevelEdges{0, 4, 8, 16, 32, 64, 128, 250};
+struct NoiseAtLevel {
+  size_t samples = 0;
+  double level = 0, sigma = 0;  // grey levels: the samples' mean level and the noise there
+};
+std::array<NoiseAtLevel, kNoiseLevelEdges.size() - 1> sensorNoiseByLevel(
+    const std::vector<std::vector<cv::Mat>>& pose_frames,
+    const body_scan_driver::PatternLayout& layout, int coarse_bits = 4);
+
+// Two sensorNoiseByLevel results side by side, one row per level band with samples in either.
+std::string noiseTable(const std::string& name_a,
+                       const std::array<NoiseAtLevel, kNoiseLevelEdges.size() - 1>& a,
+                       const std::string& name_b,
+                       const std::array<NoiseAtLevel, kNoiseLevelEdges.size() - 1>& b);
+
 // Side by side, one row per statistic: "name: dark a | b   light a | b".
 std::string contrastTable(const std::string& name_a, const BoardContrast& a,
                           const std::string& name_b, const BoardContrast& b);

@@ -56,10 +56,14 @@ struct SweptLaserProjector {
 };
 
 // Optics and noise. Defaults are the suite's documented defaults used by every test unless it
-// says otherwise: sensor noise 2 grey levels (of 255), blur 0.7 px, ambient light 10% of the
-// projector's brightness, no blooming or stray light.
+// says otherwise: sensor noise 2 grey levels (of 255) at every level, blur 0.7 px, ambient light
+// 10% of the projector's brightness, no blooming or stray light.
 struct SensorModel {
+  // Per-pixel Gaussian noise before 8-bit quantization, of variance
+  // noise_sigma^2 + shot_noise_gain * level (grey levels): a read-noise floor plus shot noise
+  // that grows with the pixel's signal. shot_noise_gain 0: the same noise_sigma everywhere.
   double noise_sigma = 2.0;
+  double shot_noise_gain = 0.0;  // grey levels (noise variance per grey level of signal)
   double blur_sigma = 0.7;
   double ambient = 0.1;
   // Blooming: this share of every pixel's light spreads over a Gaussian of bloom_sigma pixels
@@ -82,17 +86,22 @@ struct VirtualPairConfig {
   Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();
 };
 
-// The optics of real captures, matched on a public real capture set (a DLP projector's Gray code
-// on a printed board; body_scan_calib's evaluate_pattern_contrast): the finest bit's |pattern -
-// inverse| on the board's dark and light squares has the real set's percentiles. The projected
-// line is 2.5 stripes wide (the finest bit keeps about half its contrast), 10% of the light blooms
-// over 10 px and 2% of the frame's mean is stray light. The simulated calibration tools render
-// with it unless told --ideal-optics.
+// The optics and sensor noise of real captures, matched on a public real capture set (a DLP
+// projector's Gray code on a printed board; body_scan_calib's evaluate_pattern_contrast): the
+// finest bit's |pattern - inverse| on the board's dark and light squares has the real set's
+// percentiles. The projected line is 2.5 stripes wide (the finest bit keeps about half its
+// contrast), 10% of the light blooms over 10 px and 2% of the frame's mean is stray light. The
+// sensor noise is the real camera's (evaluate_pattern_contrast's noise table): pure shot noise,
+// variance 0.055 grey levels per grey level (sigma 0.7 at level 10, 2.3 at 100); its read noise
+// is below the 8-bit step. The simulated calibration tools render with it unless told
+// --ideal-optics.
 struct RealCaptureOptics {
   double line_width = 2.5;  // stripes (SweptLaserProjector::line_width)
   double bloom_share = 0.1, bloom_sigma = 10.0, stray_light = 0.02;  // SensorModel
+  double noise_sigma = 0.0, shot_noise_gain = 0.055;                 // SensorModel
 };
-// `config` with these optics where it leaves them off (0), so a pair file's own values stay.
+// `config` with these optics where it leaves them off (0), so a pair file's own values stay; its
+// sensor noise is replaced unless it has shot noise (shot_noise_gain > 0).
 VirtualPairConfig withRealCaptureOptics(VirtualPairConfig config,
                                         const RealCaptureOptics& optics = {});
 
