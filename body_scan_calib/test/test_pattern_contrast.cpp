@@ -1,8 +1,9 @@
 // The simulator's board renders against real captures (test/data/kamino_procam, README there):
 // the finest Gray-code bit's |pattern - inverse| on the dark and light squares
 // (eval/pattern_contrast.h) has the real set's percentiles with the real-capture optics
-// (body_scan_driver sim/virtual_pair.h), and the ideal optics are refused by the same criterion;
-// the sensor noise by signal level is the real camera's, and the flat default noise is refused.
+// (body_scan_driver sim/virtual_pair.h), as do the blooming off the light squares and the sensor
+// noise by signal level; the ideal optics (sharp line, no blooming, flat noise) are refused by
+// the same criteria.
 #include <body_scan_calib/calibration_rig.h>
 #include <body_scan_calib/capture_layout.h>
 #include <body_scan_calib/eval/pattern_contrast.h>
@@ -121,6 +122,18 @@ TEST(PatternContrast, SimulatedBoardMatchesTheRealCaptures) {
   // The criterion tells the ideal optics apart (on the light squares: on the dark ones the
   // black print alone leaves little to tell).
   EXPECT_GT(worstExcess(real.light, ideal_contrast.light), 0);
+
+  // Blooming: the dark squares' lit level falls off from a light square's edge as the real
+  // ones' do (between 5 and 15 px, within 40% of the real fall); without blooming it is flat.
+  auto fall = [](const BoardContrast& c) {
+    return c.dark_share_by_edge_distance[5] - c.dark_share_by_edge_distance[15];
+  };
+  std::cout << "[ figure ] dark squares' lit level, % of the light squares', fall from 5 to 15 px "
+               "off a light square: real "
+            << 100 * fall(real) << ", simulator " << 100 * fall(simulated) << ", ideal optics "
+            << 100 * fall(ideal_contrast) << "\n";
+  EXPECT_NEAR(fall(simulated), fall(real), 0.4 * fall(real));
+  EXPECT_LT(fall(ideal_contrast), 0.6 * fall(real));
 
   // Sensor noise by level (eval::sensorNoiseByLevel): within 10% in every band compared.
   const NoiseByLevel real_noise =

@@ -1,8 +1,9 @@
 // evaluate_pattern_contrast: the finest Gray-code bit's |pattern - inverse| on a checkerboard's
 // dark and light squares (eval/pattern_contrast.h), of a recorded capture folder and of the
 // simulator's renders of its own board in the rig's poses, side by side: how close the
-// simulator's decoding difficulty is to real captures'. Then the sensor noise against signal level
-// of both (eval::sensorNoiseByLevel).
+// simulator's decoding difficulty is to real captures'; the dark squares' lit level near a light
+// square (blooming); then the sensor noise against signal level of both
+// (eval::sensorNoiseByLevel).
 //
 //   evaluate_pattern_contrast --images CAPTURES --layout opencv --projector-width 1024
 //       --board-cols 9 --board-rows 7 [--pair PAIR_FILE] [--poses 16]
@@ -20,8 +21,9 @@ int main(int argc, char** argv) {
   CLI::App app(
       "Prints the distribution (percentiles, histogram) of the finest Gray-code bit's |pattern - "
       "inverse| on a checkerboard's dark and light squares: of the recorded captures (--images) "
-      "and of the simulator's renders of its board in the calibration rig's poses; then both "
-      "sets' sensor noise by signal level.",
+      "and of the simulator's renders of its board in the calibration rig's poses; the dark "
+      "squares' lit level against the distance to a light square (blooming); then both sets' "
+      "sensor noise by signal level.",
       "evaluate_pattern_contrast");
   std::string images, pair;
   int poses = 16;

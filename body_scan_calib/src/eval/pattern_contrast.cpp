@@ -70,6 +70,52 @@ ParitySamples sampleBoard(const std::vector<cv::Mat>& frames,
   return samples;
 }
 
+// Sums for BoardContrast::dark_share_by_edge_distance over one pose.
+struct EdgeProfileSums {
+  std::vector<double> dark_sum = std::vector<double>(kMaxEdgeDistancePx + 1, 0.0);
+  std::vector<size_t> dark_count = std::vector<size_t>(kMaxEdgeDistancePx + 1, 0);
+  double light_sum = 0;
+  size_t light_count = 0;
+};
+
+void addEdgeProfile(const cv::Mat& lit, const cv::Mat& unlit,
+                    const std::vector<Eigen::Vector2d>& corners, EdgeProfileSums& sums) {
+  std::vector<cv::Point2f> points, hull;
+  for (const Eigen::Vector2d& c : corners)
+    points.emplace_back(static_cast<float>(c.x()), static_cast<float>(c.y()));
+  cv::convexHull(points, hull);
+  std::vector<cv::Point> polygon;
+  for (const cv::Point2f& p : hull) polygon.emplace_back(cvRound(p.x), cvRound(p.y));
+  cv::Mat inside = cv::Mat::zeros(lit.size(), CV_8U);
+  cv::fillConvexPoly(inside, polygon, 255);
+  std::vector<uint8_t> values;
+  for (int v = 0; v < lit.rows; ++v)
+    for (int u = 0; u < lit.cols; ++u)
+      if (inside.at<uint8_t>(v, u)) values.push_back(lit.at<uint8_t>(v, u));
+  if (values.empty()) return;
+  cv::Mat scratch(values, true);
+  const double threshold =
+      cv::threshold(scratch, scratch, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+  const cv::Mat dark = lit <= threshold;
+  cv::Mat light_core, distance, recorded_rows;
+  cv::erode((lit > threshold) & inside, light_core, cv::Mat::ones(7, 7, CV_8U));
+  cv::distanceTransform(dark, distance, cv::DIST_L2, cv::DIST_MASK_5);
+  cv::reduce(unlit, recorded_rows, 1, cv::REDUCE_MAX);
+  for (int v = 0; v < lit.rows; ++v) {
+    if (recorded_rows.at<uint8_t>(v) == 0) continue;  // a trimmed row
+    for (int u = 0; u < lit.cols; ++u) {
+      if (!inside.at<uint8_t>(v, u)) continue;
+      const double level = int{lit.at<uint8_t>(v, u)} - int{unlit.at<uint8_t>(v, u)};
+      if (light_core.at<uint8_t>(v, u)) sums.light_sum += level, ++sums.light_count;
+      if (!dark.at<uint8_t>(v, u)) continue;
+      const int d = static_cast<int>(std::lround(distance.at<float>(v, u)));
+      if (d > kMaxEdgeDistancePx) continue;
+      sums.dark_sum[d] += level;
+      ++sums.dark_count[d];
+    }
+  }
+}
+
 }  // namespace
 
 ContrastDistribution contrastDistribution(std::vector<float> values) {
@@ -96,6 +142,7 @@ BoardContrast finestBitContrastOnBoard(const std::vector<std::vector<cv::Mat>>& 
   if (!layout.inverseFrames())
     throw std::invalid_argument("finestBitContrastOnBoard needs inverse frames");
   std::vector<float> contrast[2], lit[2], unlit[2];  // dark, light
+  EdgeProfileSums edge_sums;
   BoardContrast result;
   for (const std::vector<cv::Mat>& frames : pose_frames) {
     if (static_cast<int>(frames.size()) != layout.frameCount())
@@ -106,6 +153,8 @@ BoardContrast finestBitContrastOnBoard(const std::vector<std::vector<cv::Mat>>& 
                                    corners))
       continue;
     ++result.poses;
+    addEdgeProfile(frames[body_scan_driver::PatternLayout::litFrame()],
+                   frames[body_scan_driver::PatternLayout::darkFrame()], corners, edge_sums);
     ParitySamples samples = sampleBoard(frames, layout, corners, board, edge_margin_px);
     const int dark = median(samples.lit[0]) <= median(samples.lit[1]) ? 0 : 1;
     for (int colour = 0; colour < 2; ++colour) {
@@ -128,6 +177,12 @@ BoardContrast finestBitContrastOnBoard(const std::vector<std::vector<cv::Mat>>& 
   result.light_lit_level = median(lit[1]);
   result.dark_unlit_level = median(unlit[0]);
   result.light_unlit_level = median(unlit[1]);
+  const double light_level = edge_sums.light_sum / std::max<size_t>(1, edge_sums.light_count);
+  for (int d = 0; d <= kMaxEdgeDistancePx; ++d)
+    result.dark_share_by_edge_distance.push_back(edge_sums.dark_count[d] > 0 && light_level > 0
+                                                     ? edge_sums.dark_sum[d] /
+                                                           edge_sums.dark_count[d] / light_level
+                                                     : std::nan(""));
   return result;
 }
 
@@ -158,6 +213,18 @@ std::string contrastTable(const std::string& name_a, const BoardContrast& a,
                   kContrastBinEdges[bin + 1]);
     row(name, a.dark.histogram[bin], b.dark.histogram[bin], a.light.histogram[bin],
         b.light.histogram[bin]);
+  }
+  // Blooming: the dark squares' lit level near a light square, in % of the light squares'.
+  for (int d : {1, 2, 3, 5, 10, 15, 20, 30}) {
+    auto share = [&](const BoardContrast& c) {
+      return d < static_cast<int>(c.dark_share_by_edge_distance.size())
+                 ? 100 * c.dark_share_by_edge_distance[d]
+                 : std::nan("");
+    };
+    char name[32];
+    std::snprintf(name, sizeof name, "lit %% of light, %d px", d);
+    std::snprintf(line, sizeof line, "%-22s %12.4g %12.4g\n", name, share(a), share(b));
+    text += line;
   }
   return text;
 }

@@ -30,7 +30,13 @@ struct BoardContrast {
   // Median grey levels of the squares in the all-lit and the all-dark frame.
   double dark_lit_level = 0, light_lit_level = 0, dark_unlit_level = 0, light_unlit_level = 0;
   int poses = 0;  // poses whose board was found
+  // The dark squares' level in the all-lit minus the all-dark frame against the distance to the
+  // nearest light pixel (index: pixels, rounded; up to kMaxEdgeDistancePx), as a share of the
+  // light squares' level: blooming makes it fall off over its width from a light square's edge.
+  // Light and dark pixels: Otsu's threshold of the lit frame inside the inner corners' hull.
+  std::vector<double> dark_share_by_edge_distance;
 };
+constexpr int kMaxEdgeDistancePx = 30;
 
 // Pixels measured: inside the squares bounded by the board's inner corners (found in the lit
 // frame), more than `edge_margin_px` from a square's edge, on image rows that were recorded
