@@ -12,7 +12,8 @@ resolves our libraries there. Two checks:
     (body_scan_sim, *_eval*, *evaluation*, *simulated_scan*) and no unresolved library;
   * paths: no installed ELF file (libraries and executables) contains the absolute path of
     this checkout or a relative path to the data folder beside it: binaries find data through
-    ros::package::getPath or arguments, never through source paths.
+    ros::package::getPath or arguments, never through source paths. Debug information is left
+    out (a -g build, such as make sanitize's, names its sources there by design).
 Prints one line per problem naming the file and the fix; exit status 1 on any problem.
 """
 
@@ -21,6 +22,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 import xml.etree.ElementTree as ET
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -105,7 +107,11 @@ def check_strings(prefix, checkout):
             if os.path.isfile(path) and not os.path.islink(path) and is_elf(path):
                 files.append(path)
     for path in sorted(files):
-        out = subprocess.run(["strings", "-a", path], capture_output=True, text=True).stdout
+        with tempfile.TemporaryDirectory() as scratch:
+            without_debug = os.path.join(scratch, "elf")
+            subprocess.run(["objcopy", "--strip-debug", path, without_debug], check=True)
+            out = subprocess.run(["strings", "-a", without_debug], capture_output=True,
+                                 text=True).stdout
         hits = sorted({s for s in out.splitlines() for bad in forbidden if bad in s})
         for hit in hits:
             problems.append("%s contains the path %r: find data through ros::package::getPath or "

@@ -7,6 +7,7 @@
 #include <body_gait_model/eval/gait_subjects.h>
 #include <body_gait_model/eval/skeleton_model.h>
 #include <body_gait_model/ros/body_model_msg.h>
+#include <body_scan_driver/test_time_scale.h>
 #include <body_scan_msgs/EnrollSubject.h>
 #include <body_scan_msgs/Identify.h>
 #include <body_scan_msgs/Identity.h>
@@ -33,6 +34,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+using body_scan_driver::scaledSeconds;
 
 namespace body_gait_id {
 namespace {
@@ -84,7 +87,7 @@ class NodeProcess {
       ADD_FAILURE() << "---- " << name_ << " output (last lines) ----\n" << logTail(8);
   }
   bool waitForServices() const {
-    return ros::service::waitForService("/" + name_ + "/list", ros::Duration(20));
+    return ros::service::waitForService("/" + name_ + "/list", ros::Duration(scaledSeconds(20)));
   }
   bool alive() const { return pid_ > 0 && kill(pid_, 0) == 0; }
   void stop() {
@@ -229,7 +232,7 @@ TEST_F(GaitIdNodeTest, EnrolRestartIdentifySameAnswers) {
     ros::Publisher pub = nh.advertise<body_scan_msgs::BodyModel>("/body_gait/model", 1);
     body_scan_msgs::BodyModel probe = probe_models[9];
     probe.header.stamp = ros::Time(1234, 5);
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(15);
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(scaledSeconds(15));
     ros::WallTime next_publish;
     while (identities.empty() && ros::WallTime::now() < deadline) {
       if (ros::WallTime::now() >= next_publish && pub.getNumSubscribers() > 0) {
@@ -369,7 +372,7 @@ TEST_F(GaitIdNodeTest, AWalksFourModelsAreIdentifiedAsOneWalk) {
       "/body_gait/identity", 20,
       [&](const body_scan_msgs::Identity::ConstPtr& msg) { identities.push_back(*msg); });
   ros::Publisher pub = nh.advertise<body_scan_msgs::BodyModel>("/body_gait/model", 8);
-  for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10);
+  for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(scaledSeconds(10));
        ros::WallTime::now() < end && (pub.getNumSubscribers() == 0 || sub.getNumPublishers() == 0);
        ros::WallDuration(0.02).sleep()) {
   }
@@ -383,7 +386,7 @@ TEST_F(GaitIdNodeTest, AWalksFourModelsAreIdentifiedAsOneWalk) {
       model.scan_id = 10 * walk_id + index;
       pub.publish(model);
     }
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(15);
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(scaledSeconds(15));
     while (ros::WallTime::now() < deadline) {
       ros::spinOnce();
       for (const auto& identity : identities)

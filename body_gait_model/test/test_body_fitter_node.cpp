@@ -6,6 +6,7 @@
 #include <body_gait_model/eval/body_cloud_sampler.h>
 #include <body_gait_model/eval/gait_subjects.h>
 #include <body_gait_model/ros/body_model_msg.h>
+#include <body_scan_driver/test_time_scale.h>
 #include <body_scan_msgs/GaitSequence.h>
 #include <body_scan_msgs/ScanReport.h>
 #include <gtest/gtest.h>
@@ -14,6 +15,8 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+
+using body_scan_driver::scaledSeconds;
 
 namespace body_gait_model {
 namespace {
@@ -26,7 +29,7 @@ class BodyFitterNode : public ::testing::Test {
     cloud_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("/body_scan/cloud", 1);
     model_sub_ = nh_.subscribe("/body_gait/model", 4, &BodyFitterNode::onModel, this);
     marker_sub_ = nh_.subscribe("/body_gait/markers", 4, &BodyFitterNode::onMarkers, this);
-    const ros::Time deadline = ros::Time::now() + ros::Duration(20);
+    const ros::Time deadline = ros::Time::now() + ros::Duration(scaledSeconds(20));
     while (ros::ok() && cloud_pub_.getNumSubscribers() == 0 && ros::Time::now() < deadline)
       ros::Duration(0.05).sleep();
     ASSERT_GT(cloud_pub_.getNumSubscribers(), 0u) << "the body fitter did not subscribe";
@@ -44,7 +47,7 @@ class BodyFitterNode : public ::testing::Test {
     header.frame_id = frame;
     header.stamp = ros::Time::now();
     const sensor_msgs::PointCloud2 message = cloudToMsg(cloud, header);
-    const ros::Time deadline = ros::Time::now() + ros::Duration(timeout);
+    const ros::Time deadline = ros::Time::now() + ros::Duration(scaledSeconds(timeout));
     for (ros::Time next_publish; ros::ok() && ros::Time::now() < deadline;) {
       if (ros::Time::now() >= next_publish) {
         cloud_pub_.publish(message);
@@ -90,7 +93,7 @@ TEST_F(BodyFitterNode, FitsASimulatedBodyCloud) {
               1000 * errors.mean_joint_error, 1000 * msg->fit_seconds, 1000 * msg->rms_distance);
 
   // Markers of the same fit: 12 segments + the joints, green.
-  const ros::Time deadline = ros::Time::now() + ros::Duration(5);
+  const ros::Time deadline = ros::Time::now() + ros::Duration(scaledSeconds(5));
   while (ros::ok() && ros::Time::now() < deadline &&
          (markers_.empty() || markers_.back().markers.at(0).header.stamp != msg->header.stamp)) {
     ros::spinOnce();
@@ -142,7 +145,7 @@ TEST_F(BodyFitterNode, FitsAWalksFourCloudsAndPublishesItsGaitCycle) {
   ros::Subscriber sequence_sub = nh_.subscribe<body_scan_msgs::GaitSequence>(
       "/body_gait/gait_sequence", 2,
       [&](const body_scan_msgs::GaitSequenceConstPtr& msg) { sequences.push_back(*msg); });
-  for (const ros::Time end = ros::Time::now() + ros::Duration(10);
+  for (const ros::Time end = ros::Time::now() + ros::Duration(scaledSeconds(10));
        ros::ok() && ros::Time::now() < end && report_pub.getNumSubscribers() == 0;)
     ros::Duration(0.02).sleep();
   ASSERT_GT(report_pub.getNumSubscribers(), 0u) << "the fitter does not read scan reports";
@@ -170,7 +173,7 @@ TEST_F(BodyFitterNode, FitsAWalksFourCloudsAndPublishesItsGaitCycle) {
       report_pub.publish(report);
     }
   }
-  const ros::Time deadline = ros::Time::now() + ros::Duration(30);
+  const ros::Time deadline = ros::Time::now() + ros::Duration(scaledSeconds(30));
   while (ros::ok() && ros::Time::now() < deadline && sequences.empty()) {
     ros::spinOnce();
     ros::Duration(0.02).sleep();

@@ -3,11 +3,14 @@
 // frames, walked on by 20 v per cycle), with markers for rviz.
 #include <body_gait_model/ros/body_model_msg.h>
 #include <body_gait_model/ros/gait_sequence_msg.h>
+#include <body_scan_driver/test_time_scale.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
 #include <cmath>
 #include <optional>
+
+using body_scan_driver::scaledSeconds;
 
 namespace body_gait_model {
 namespace {
@@ -30,7 +33,7 @@ TEST(PlayGaitCycle, PublishesTheSequenceAndPlaysItsFrames) {
   ros::Subscriber marker_sub = nh.subscribe<visualization_msgs::MarkerArray>(
       "/body_gait/markers", 100,
       [&](const visualization_msgs::MarkerArray::ConstPtr&) { ++marker_arrays; });
-  const ros::Time deadline = ros::Time::now() + ros::Duration(30);
+  const ros::Time deadline = ros::Time::now() + ros::Duration(scaledSeconds(30));
   while (ros::ok() && ros::Time::now() < deadline &&
          (!sequence || !filmstrip || models.size() < 50)) {
     ros::spinOnce();

@@ -30,8 +30,9 @@ AffineFit fitLeastSquares(const std::vector<Eigen::Vector3d>& camera_points,
     centred_camera.row(i) = (camera_points[i] - camera_mean).transpose();
     centred_world.row(i) = (world_points[i] - world_mean).transpose();
   }
-  const Eigen::JacobiSVD<Eigen::MatrixX3d> svd(centred_camera,
-                                               Eigen::ComputeThinU | Eigen::ComputeThinV);
+  // Thin U and V need a dynamic column count (Eigen asserts it in a build without NDEBUG).
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Eigen::MatrixXd(centred_camera),
+                                              Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Eigen::Vector3d spread = svd.singularValues() / std::sqrt(static_cast<double>(n));
   if (!(spread[2] > 1e-4))
     throw WorldAlignmentError(

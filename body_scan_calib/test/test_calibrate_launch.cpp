@@ -8,6 +8,7 @@
 #include <body_scan_calib/capture_folder.h>
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/sim/virtual_pair.h>
+#include <body_scan_driver/test_time_scale.h>
 #include <body_scan_msgs/SetScene.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -16,6 +17,8 @@
 #include <filesystem>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+
+using body_scan_driver::scaledSeconds;
 
 using namespace body_scan_driver;
 namespace fs = std::filesystem;
@@ -33,7 +36,7 @@ std::string param(const std::string& name) {
 
 // Waits until every file exists and was written after `start` (earlier runs leave old ones).
 bool waitForFiles(const std::vector<std::string>& files, fs::file_time_type start, double timeout) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(scaledSeconds(timeout));
   while (ros::WallTime::now() < end && ros::ok()) {
     bool all = true;
     for (const std::string& file : files) {
@@ -56,7 +59,7 @@ double angleDeg(const Eigen::Vector4d& a, const Eigen::Vector4d& b) {
 TEST(SetScene, RefusesBadScenesAndTheDriverKeepsServing) {
   ros::NodeHandle nh;
   ros::ServiceClient client = nh.serviceClient<body_scan_msgs::SetScene>(param("set_scene"));
-  ASSERT_TRUE(client.waitForExistence(ros::Duration(20)));
+  ASSERT_TRUE(client.waitForExistence(ros::Duration(scaledSeconds(20))));
   body_scan_msgs::SetScene bad_yaml;
   bad_yaml.request.scene_yaml = "objects: [ {type: sphere";
   ASSERT_TRUE(client.call(bad_yaml));
@@ -71,7 +74,7 @@ TEST(SetScene, RefusesBadScenesAndTheDriverKeepsServing) {
       << bad_object.response.message;
   // A real pair says its scene cannot be set (the test's usb pair has no camera attached).
   ros::ServiceClient usb = nh.serviceClient<body_scan_msgs::SetScene>(param("usb_set_scene"));
-  ASSERT_TRUE(usb.waitForExistence(ros::Duration(20)));
+  ASSERT_TRUE(usb.waitForExistence(ros::Duration(scaledSeconds(20))));
   body_scan_msgs::SetScene on_usb;
   on_usb.request.scene_yaml = "objects: []\n";
   ASSERT_TRUE(usb.call(on_usb));

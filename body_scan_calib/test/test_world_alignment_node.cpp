@@ -5,6 +5,7 @@
 #include <body_scan_driver/sim/data_paths.h>
 #include <body_scan_driver/sim/virtual_pair.h>
 #include <body_scan_driver/stripe_decoder.h>
+#include <body_scan_driver/test_time_scale.h>
 #include <body_scan_driver/tools/package_file.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -18,6 +19,8 @@
 #include <filesystem>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
+
+using body_scan_driver::scaledSeconds;
 
 using namespace body_scan_driver;
 using namespace body_scan_calib;
@@ -46,7 +49,7 @@ class WorldAlignmentNode : public testing::Test {
   }
 
   std::optional<Eigen::Isometry3d> lookup(const std::string& frame, double wait) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wait);
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(scaledSeconds(wait));
     while (ros::WallTime::now() < deadline) {
       try {
         return toEigen(buffer_.lookupTransform("world", frame, ros::Time(0)));

@@ -1,11 +1,14 @@
 // See rig_pairs.test: a rig pair's ~capture honours active_pairs (the other pair's light shows
 // in the frames) and names an unknown pair id.
+#include <body_scan_driver/test_time_scale.h>
 #include <body_scan_msgs/Capture.h>
 #include <body_scan_msgs/PatternSet.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
 #include <mutex>
+
+using body_scan_driver::scaledSeconds;
 
 namespace {
 
@@ -23,13 +26,15 @@ body_scan_msgs::PatternSet::ConstPtr capture(ros::NodeHandle& nh, uint32_t scan_
         if (set->scan_id == scan_id) received = set;
       });
   const ros::WallTime wait_start = ros::WallTime::now();
-  while (sub.getNumPublishers() == 0 && ros::WallTime::now() - wait_start < ros::WallDuration(20))
+  while (sub.getNumPublishers() == 0 &&
+         ros::WallTime::now() - wait_start < ros::WallDuration(scaledSeconds(20)))
     ros::WallDuration(0.05).sleep();
   call.request.scan_id = scan_id;
   call.request.active_pairs = active;
   EXPECT_TRUE(ros::service::call(kPair + "/driver/capture", call));
   const ros::WallTime start = ros::WallTime::now();
-  while (call.response.success && ros::WallTime::now() - start < ros::WallDuration(20)) {
+  while (call.response.success &&
+         ros::WallTime::now() - start < ros::WallDuration(scaledSeconds(20))) {
     {
       std::lock_guard<std::mutex> lock(mutex);
       if (received) break;
@@ -46,7 +51,8 @@ TEST(RigPairs, CaptureHonoursActivePairs) {
   ros::NodeHandle nh;
   ros::AsyncSpinner spinner(1);
   spinner.start();
-  ASSERT_TRUE(ros::service::waitForService(kPair + "/driver/capture", 30000));
+  ASSERT_TRUE(
+      ros::service::waitForService(kPair + "/driver/capture", ros::Duration(scaledSeconds(30))));
 
   body_scan_msgs::Capture alone_call, both_call, bad_call;
   const auto alone = capture(nh, 5, {}, alone_call);

@@ -1,6 +1,7 @@
 // Merge nodelet against three simulated pairs: one cloud + report per scan with every pair's
 // points; a pair that does not deliver is named missing after the timeout; its late cloud is
 // dropped.
+#include <body_scan_driver/test_time_scale.h>
 #include <body_scan_msgs/Capture.h>
 #include <body_scan_msgs/PairCloud.h>
 #include <body_scan_msgs/ScanReport.h>
@@ -13,6 +14,8 @@
 #include <cmath>
 #include <map>
 #include <mutex>
+
+using body_scan_driver::scaledSeconds;
 
 namespace {
 
@@ -32,15 +35,18 @@ class MergeNode : public testing::Test {
             std::lock_guard<std::mutex> lock(mutex_);
             valid_[{c->pair_id, c->scan_id}] = valid;
           }));
-      ASSERT_TRUE(ros::service::waitForService("/" + pair + "/driver/capture", 30000)) << pair;
+      ASSERT_TRUE(ros::service::waitForService("/" + pair + "/driver/capture",
+                                               ros::Duration(scaledSeconds(30))))
+          << pair;
     }
     for (int i = 0; i < 100 && report_sub_.getNumPublishers() == 0; ++i)
       ros::WallDuration(0.1).sleep();
     ASSERT_GT(report_sub_.getNumPublishers(), 0u) << "merge is not publishing scan_report";
     // What the ScanCoordinator asks before a scan: are the merge's subscriptions connected?
-    ASSERT_TRUE(ros::service::waitForService("/body_scan/merge/inputs_connected", 30000));
+    ASSERT_TRUE(ros::service::waitForService("/body_scan/merge/inputs_connected",
+                                             ros::Duration(scaledSeconds(30))));
     std_srvs::Trigger inputs;
-    for (const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30);
+    for (const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(scaledSeconds(30));
          ros::WallTime::now() < deadline; ros::WallDuration(0.05).sleep())
       if (ros::service::call("/body_scan/merge/inputs_connected", inputs) &&
           inputs.response.success)
@@ -58,7 +64,7 @@ class MergeNode : public testing::Test {
 
   // The report of `scan_id`, waiting up to `wait` s; nullptr if none.
   body_scan_msgs::ScanReport::ConstPtr waitReport(uint32_t scan_id, double wait) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wait);
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(scaledSeconds(wait));
     while (ros::WallTime::now() < deadline) {
       {
         std::lock_guard<std::mutex> lock(mutex_);

@@ -1,6 +1,7 @@
 // ScanCoordinator rostest (scan_coordinator.test): the scan service triggers every pair of the
 // plan with the scan id, in groups; a pair whose driver is absent is named, the others capture;
 // a walk session scans 4 poses, each pattern set stamped with the walk id and pose index.
+#include <body_scan_driver/test_time_scale.h>
 #include <body_scan_msgs/CaptureWalk.h>
 #include <body_scan_msgs/PatternSet.h>
 #include <body_scan_msgs/Scan.h>
@@ -14,6 +15,8 @@
 #include <map>
 #include <mutex>
 #include <set>
+
+using body_scan_driver::scaledSeconds;
 
 namespace {
 
@@ -35,7 +38,7 @@ struct PatternSets {
           }));
     // A set published before the connection is made is lost: a scan that needs no planning
     // (all_at_once) answers within milliseconds of the subscription.
-    for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10.0);
+    for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(scaledSeconds(10.0));
          ros::WallTime::now() < end; ros::WallDuration(0.02).sleep())
       if (std::all_of(subscribers.begin(), subscribers.end(),
                       [](const ros::Subscriber& s) { return s.getNumPublishers() > 0; }))
@@ -43,7 +46,7 @@ struct PatternSets {
   }
   // Waits (at most 10 s) until every present pair published a set with this scan id.
   bool allHave(uint32_t scan_id) {
-    for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10.0);
+    for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(scaledSeconds(10.0));
          ros::WallTime::now() < end; ros::WallDuration(0.05).sleep()) {
       std::lock_guard<std::mutex> lock(mutex);
       bool all = true;
@@ -68,7 +71,7 @@ std::set<std::string> membersOf(const std::vector<std::string>& groups) {
 TEST(ScanCoordinator, CapturesEveryPairWithTheScanIdInItsGroups) {
   ros::NodeHandle nh;
   PatternSets sets(nh);
-  ASSERT_TRUE(ros::service::waitForService("/body_scan/capture", ros::Duration(30)));
+  ASSERT_TRUE(ros::service::waitForService("/body_scan/capture", ros::Duration(scaledSeconds(30))));
   body_scan_msgs::Scan scan;
   scan.request.scan_id = 42;
   ASSERT_TRUE(ros::service::call("/body_scan/capture", scan));
@@ -80,8 +83,8 @@ TEST(ScanCoordinator, CapturesEveryPairWithTheScanIdInItsGroups) {
   EXPECT_DOUBLE_EQ(scan.response.simulated_capture_seconds, 0.5 * scan.response.groups.size());
   EXPECT_TRUE(sets.allHave(42));
   // The latched plan matches the groups the scan used.
-  auto plan = ros::topic::waitForMessage<body_scan_msgs::TimingGroups>("/body_scan/timing_groups",
-                                                                       nh, ros::Duration(5));
+  auto plan = ros::topic::waitForMessage<body_scan_msgs::TimingGroups>(
+      "/body_scan/timing_groups", nh, ros::Duration(scaledSeconds(5)));
   ASSERT_TRUE(plan);
   EXPECT_EQ(plan->groups, scan.response.groups);
   std::cout << "[ figure ] " << scan.response.message << "\n";
@@ -97,12 +100,13 @@ TEST(ScanCoordinator, CapturesEveryPairWithTheScanIdInItsGroups) {
 TEST(ScanCoordinator, AnAbsentDriverIsNamedAndTheOthersStillCapture) {
   ros::NodeHandle nh;
   PatternSets sets(nh);
-  ASSERT_TRUE(ros::service::waitForService("/partial/capture", ros::Duration(30)));
+  ASSERT_TRUE(ros::service::waitForService("/partial/capture", ros::Duration(scaledSeconds(30))));
   body_scan_msgs::Scan scan;
   scan.request.scan_id = 77;
   const ros::WallTime start = ros::WallTime::now();
   ASSERT_TRUE(ros::service::call("/partial/capture", scan));
-  EXPECT_LT((ros::WallTime::now() - start).toSec(), 30.0) << "the coordinator must not hang";
+  EXPECT_LT((ros::WallTime::now() - start).toSec(), scaledSeconds(30.0))
+      << "the coordinator must not hang";
   EXPECT_FALSE(scan.response.success);
   EXPECT_EQ(scan.response.pairs_missing, std::vector<std::string>{"pole_b/pair_1"});
   EXPECT_NE(scan.response.message.find("pole_b/pair_1"), std::string::npos)
@@ -117,7 +121,7 @@ TEST(ScanCoordinator, AnAbsentDriverIsNamedAndTheOthersStillCapture) {
 TEST(ScanCoordinator, WithoutTfThePosesComeFromTheRigFile) {
   ros::NodeHandle nh;
   PatternSets sets(nh);
-  ASSERT_TRUE(ros::service::waitForService("/rig_poses/capture", ros::Duration(30)));
+  ASSERT_TRUE(ros::service::waitForService("/rig_poses/capture", ros::Duration(scaledSeconds(30))));
   body_scan_msgs::Scan scan, reference;
   scan.request.scan_id = 90;
   ASSERT_TRUE(ros::service::call("/rig_poses/capture", scan));
@@ -129,9 +133,9 @@ TEST(ScanCoordinator, WithoutTfThePosesComeFromTheRigFile) {
   EXPECT_EQ(scan.response.groups.size(), 3u);  // the three pairs light each other's views
   // Planned from geometry (a pair planned alone for want of a pose has no conflicts listed).
   auto planned = ros::topic::waitForMessage<body_scan_msgs::TimingGroups>(
-      "/rig_poses/timing_groups", nh, ros::Duration(5));
+      "/rig_poses/timing_groups", nh, ros::Duration(scaledSeconds(5)));
   auto from_tf = ros::topic::waitForMessage<body_scan_msgs::TimingGroups>(
-      "/body_scan/timing_groups", nh, ros::Duration(5));
+      "/body_scan/timing_groups", nh, ros::Duration(scaledSeconds(5)));
   ASSERT_TRUE(planned && from_tf);
   EXPECT_FALSE(planned->conflicts.empty());
   EXPECT_EQ(planned->conflicts, from_tf->conflicts);
@@ -140,7 +144,8 @@ TEST(ScanCoordinator, WithoutTfThePosesComeFromTheRigFile) {
 TEST(ScanCoordinator, AllAtOnceTriggersEveryPairInOneGroup) {
   ros::NodeHandle nh;
   PatternSets sets(nh);
-  ASSERT_TRUE(ros::service::waitForService("/all_at_once/capture", ros::Duration(30)));
+  ASSERT_TRUE(
+      ros::service::waitForService("/all_at_once/capture", ros::Duration(scaledSeconds(30))));
   body_scan_msgs::Scan scan;
   scan.request.scan_id = 120;
   ASSERT_TRUE(ros::service::call("/all_at_once/capture", scan));
@@ -155,7 +160,8 @@ TEST(ScanCoordinator, AllAtOnceTriggersEveryPairInOneGroup) {
 TEST(ScanCoordinator, AWalkScansFourPosesStampedWithWalkIdAndPoseOnTrigger) {
   ros::NodeHandle nh;
   PatternSets sets(nh);
-  ASSERT_TRUE(ros::service::waitForService("/body_scan/capture_walk", ros::Duration(30)));
+  ASSERT_TRUE(
+      ros::service::waitForService("/body_scan/capture_walk", ros::Duration(scaledSeconds(30))));
   // The operator: triggers each pose once it has been prompted.
   std::mutex mutex;
   std::vector<body_scan_msgs::WalkProgress> progress;
@@ -167,7 +173,7 @@ TEST(ScanCoordinator, AWalkScansFourPosesStampedWithWalkIdAndPoseOnTrigger) {
         if (p->state == body_scan_msgs::WalkProgress::PROMPT && p->waiting_for_trigger)
           trigger.publish(std_msgs::Empty());
       });
-  for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10.0);
+  for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(scaledSeconds(10.0));
        ros::WallTime::now() < end &&
        (trigger.getNumSubscribers() == 0 || progress_sub.getNumPublishers() == 0);
        ros::WallDuration(0.02).sleep()) {
@@ -187,7 +193,7 @@ TEST(ScanCoordinator, AWalkScansFourPosesStampedWithWalkIdAndPoseOnTrigger) {
     EXPECT_EQ(sets.walk_of_scan[scan_id], (std::set<std::pair<uint32_t, int>>{{5u, pose}}));
   }
   // Prompted, scanned and done in order (the latched DONE is the last message).
-  for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(5.0);
+  for (const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(scaledSeconds(5.0));
        ros::WallTime::now() < end; ros::WallDuration(0.02).sleep()) {
     std::lock_guard<std::mutex> lock(mutex);
     if (!progress.empty() && progress.back().state == body_scan_msgs::WalkProgress::DONE) break;

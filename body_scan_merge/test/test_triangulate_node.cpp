@@ -1,6 +1,7 @@
 #include <body_scan_driver/calibration_file.h>
 #include <body_scan_driver/ros/conversions.h>
 #include <body_scan_driver/sim/virtual_pair.h>
+#include <body_scan_driver/test_time_scale.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
@@ -11,6 +12,8 @@
 #include <cmath>
 #include <cstdio>
 #include <mutex>
+
+using body_scan_driver::scaledSeconds;
 
 using namespace body_scan_driver;
 
@@ -60,7 +63,7 @@ class TriangulateNode : public testing::Test {
       clouds_ = 0;
     }
     publisher_.publish(set);
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wait);
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(scaledSeconds(wait));
     while (ros::WallTime::now() < deadline) {
       {
         std::lock_guard<std::mutex> lock(mutex_);

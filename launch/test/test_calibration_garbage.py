@@ -9,7 +9,7 @@ import unittest
 import rospy
 import rostest
 
-from test_record_replay import wait_until  # same directory
+from test_record_replay import TIME_SCALE, wait_until  # same directory
 from body_scan_msgs.msg import ScanReport
 from body_scan_msgs.srv import Scan
 from rosgraph_msgs.msg import Log
@@ -61,7 +61,7 @@ class CalibrationGarbage(unittest.TestCase):
     def test_garbage_keeps_last_good_calibration(self):
         events = Events()
         path = rospy.get_param("~calibration_file")
-        rospy.wait_for_service("/body_scan/capture", timeout=120)
+        rospy.wait_for_service("/body_scan/capture", timeout=120 * TIME_SCALE)
         self.assertTrue(events.wait(lambda: events.report_sub.get_num_connections() > 0, 60))
         good_points = self.scan(events)
         with open(path, "rb") as f:

@@ -3,6 +3,7 @@
 // world frame, and a scan report that accounts for them; the cloud's accuracy against the
 // simulator's true surface (evaluation only) meets the whole-body accuracy targets, written as a
 // YAML report.
+#include <body_scan_driver/test_time_scale.h>
 #include <body_scan_merge/eval/scan_accuracy.h>
 #include <body_scan_msgs/Scan.h>
 #include <body_scan_msgs/ScanReport.h>
@@ -14,6 +15,8 @@
 #include <cmath>
 #include <cstring>
 #include <mutex>
+
+using body_scan_driver::scaledSeconds;
 
 namespace {
 
@@ -40,11 +43,11 @@ TEST(FullScanner, OneScanGivesOneWholeBodyCloudFromEveryPair) {
   const int expected_pairs = pnh.param("expected_pairs", 12);
   ros::Subscriber cloud_sub = nh.subscribe("/body_scan/cloud", 1, &onCloud);
   ros::Subscriber report_sub = nh.subscribe("/body_scan/scan_report", 1, &onReport);
-  ASSERT_TRUE(ros::service::waitForService("/body_scan/capture", ros::Duration(60)))
+  ASSERT_TRUE(ros::service::waitForService("/body_scan/capture", ros::Duration(scaledSeconds(60))))
       << "/body_scan/capture not advertised: is the ScanCoordinator running?";
 
   // Nodes that started with the coordinator may still be connecting their topics.
-  ros::WallDuration(pnh.param("settle", 0.0)).sleep();
+  ros::WallDuration(scaledSeconds(pnh.param("settle", 0.0))).sleep();
   const ros::WallTime start = ros::WallTime::now();
   body_scan_msgs::Scan scan;
   ASSERT_TRUE(ros::service::call("/body_scan/capture", scan));
@@ -59,7 +62,7 @@ TEST(FullScanner, OneScanGivesOneWholeBodyCloudFromEveryPair) {
 
   sensor_msgs::PointCloud2ConstPtr cloud;
   body_scan_msgs::ScanReportConstPtr report;
-  for (ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(60);
+  for (ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(scaledSeconds(60));
        ros::WallTime::now() < deadline; ros::WallDuration(0.05).sleep()) {
     std::lock_guard<std::mutex> lock(mutex);
     if (last_report && last_report->scan_id == scan.response.scan_id && last_cloud) {

@@ -86,7 +86,7 @@ class MasterRestart(unittest.TestCase):
                 cond.notify_all()
 
         sub = rospy.Subscriber("/body_scan/scan_report", ScanReport, on_report, queue_size=10)
-        rospy.wait_for_service("/body_scan/capture", timeout=180)
+        rospy.wait_for_service("/body_scan/capture", timeout=180 * TIME_SCALE)
         self.assertTrue(wait_until(cond, lambda: sub.get_num_connections() > 0, 60))
         persistent = rospy.ServiceProxy("/body_scan/capture", Scan, persistent=True)
 
@@ -127,7 +127,7 @@ class MasterRestart(unittest.TestCase):
         print(f"[ figure ] coordinator, Merge and the 3 pole managers registered again "
               f"{time.monotonic() - restart:.1f} s after the master restart")
         scan(rospy.ServiceProxy("/body_scan/capture", Scan), "a new client after the restart")
-        groups = rospy.wait_for_message("/body_scan/timing_groups", TimingGroups, timeout=20)
+        groups = rospy.wait_for_message("/body_scan/timing_groups", TimingGroups, timeout=20 * TIME_SCALE)
         self.assertGreater(len(groups.groups), 0)
 
 

@@ -14,7 +14,7 @@ import rosgraph
 import rospy
 import rostest
 
-from test_record_replay import wait_until  # same directory
+from test_record_replay import TIME_SCALE, wait_until  # same directory
 from body_scan_msgs.msg import PairCloud, ScanReport
 from body_scan_msgs.srv import Scan
 
@@ -78,7 +78,7 @@ def pole_ready(pole, old_pid):
 class PoleRespawn(unittest.TestCase):
     def test_killed_manager_misses_one_scan_then_rejoins(self):
         events = Events()
-        rospy.wait_for_service("/body_scan/capture", timeout=120)
+        rospy.wait_for_service("/body_scan/capture", timeout=120 * TIME_SCALE)
         capture = rospy.ServiceProxy("/body_scan/capture", Scan)
         # Merge and this test must hear every Triangulate before the first scan.
         self.assertTrue(events.wait(lambda: all(s.get_num_connections() > 0 for s in events.subs),
@@ -117,9 +117,9 @@ class PoleRespawn(unittest.TestCase):
 
         # The launch respawns the manager and its loaders; the pole is back for the next scan.
         respawn_start = time.monotonic()
-        deadline = respawn_start + 60
+        deadline = respawn_start + 60 * TIME_SCALE
         while not pole_ready(victim, old_pid):
-            self.assertLess(time.monotonic(), deadline, f"{victim} was not respawned in 60 s")
+            self.assertLess(time.monotonic(), deadline, f"{victim} was not respawned in {60 * TIME_SCALE:g} s")
             rospy.rostime.wallsleep(0.2)  # polls the master: no event tells us
         self.assertTrue(events.wait(lambda: all(s.get_num_connections() > 0 for s in events.subs),
                                     30), f"{victim}'s scan_points did not reconnect")

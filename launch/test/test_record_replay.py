@@ -112,7 +112,7 @@ class RecordReplay(unittest.TestCase):
         bag = os.path.join(workdir, "scan.bag")
         calibration_dir = rospy.get_param("~calibration_dir")
         live, replay = Latest(""), Latest("/replay")
-        rospy.wait_for_service("/body_scan/capture", timeout=60)
+        rospy.wait_for_service("/body_scan/capture", timeout=60 * TIME_SCALE)
 
         record = subprocess.Popen(["roslaunch", "body_scan_launch", "record.launch",
                                    "bag:=" + bag])
@@ -126,7 +126,7 @@ class RecordReplay(unittest.TestCase):
             time.sleep(2.0)  # the bag writer drains its queue
         finally:
             record.send_signal(signal.SIGINT)
-            record.wait(timeout=30)
+            record.wait(timeout=30 * TIME_SCALE)
         with rosbag.Bag(bag) as recorded:
             sets = sum(1 for _ in recorded.read_messages(
                 topics=["/%s/pattern_set" % p for p in report.pairs_present]))
@@ -140,7 +140,7 @@ class RecordReplay(unittest.TestCase):
             replayed, replayed_report = replay.wait(response.scan_id, 180)
         finally:
             player.send_signal(signal.SIGINT)
-            player.wait(timeout=30)
+            player.wait(timeout=30 * TIME_SCALE)
         self.assertIsNotNone(replayed, "no replayed merged cloud on /replay/body_scan/cloud")
         self.assertEqual(replayed_report.pairs_present, report.pairs_present)
 

@@ -2,6 +2,7 @@
 // every pair reports ERROR on /diagnostics naming its missing camera, the three pole managers
 // stay up with all their nodelets, and /body_scan/capture answers with a failure that names
 // every missing pair instead of hanging.
+#include <body_scan_driver/test_time_scale.h>
 #include <body_scan_msgs/Scan.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
@@ -15,6 +16,8 @@
 #include <memory>
 #include <mutex>
 #include <thread>
+
+using body_scan_driver::scaledSeconds;
 
 namespace {
 
@@ -66,7 +69,8 @@ TEST(UsbFullScanner, EveryPairReportsItsMissingDeviceAndNothingCrashes) {
     }
     return true;
   };
-  const ros::WallTime deadline = start + ros::WallDuration(pnh.param("startup_timeout", 30.0));
+  const ros::WallTime deadline =
+      start + ros::WallDuration(scaledSeconds(pnh.param("startup_timeout", 30.0)));
   while (!all_report_their_device() && ros::WallTime::now() < deadline)
     ros::WallDuration(0.05).sleep();
   {
@@ -86,14 +90,14 @@ TEST(UsbFullScanner, EveryPairReportsItsMissingDeviceAndNothingCrashes) {
 
   // 2. /body_scan/capture answers, failed, naming every pair missing. In a thread of its own
   // so that a hang is a failure with a message, not a test timeout.
-  ASSERT_TRUE(ros::service::waitForService("/body_scan/capture", ros::Duration(30)));
+  ASSERT_TRUE(ros::service::waitForService("/body_scan/capture", ros::Duration(scaledSeconds(30))));
   auto scan = std::make_shared<body_scan_msgs::Scan>();
   std::promise<bool> answered;
   std::future<bool> answer = answered.get_future();
   std::thread([scan, done = std::move(answered)]() mutable {
     done.set_value(ros::service::call("/body_scan/capture", *scan));
   }).detach();
-  const double capture_timeout = pnh.param("capture_timeout", 20.0);
+  const double capture_timeout = scaledSeconds(pnh.param("capture_timeout", 20.0));
   ASSERT_EQ(answer.wait_for(std::chrono::duration<double>(capture_timeout)),
             std::future_status::ready)
       << "/body_scan/capture did not answer within " << capture_timeout << " s";

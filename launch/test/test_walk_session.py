@@ -57,7 +57,7 @@ class Identities:
 
 def enrol_gallery(work, person):
     """People 0-5 from their walk-0 fits (no scans), and the walker's 4 scenes of walk 1."""
-    rospy.wait_for_service("/gait_id/list", timeout=60)
+    rospy.wait_for_service("/gait_id/list", timeout=60 * TIME_SCALE)
     remove = rospy.ServiceProxy("/gait_id/remove", RemoveSubject)
     for subject in rospy.ServiceProxy("/gait_id/list", ListSubjects)().subject_ids:
         remove(subject)  # a gallery left by an earlier run
@@ -88,7 +88,7 @@ class WalkSession(unittest.TestCase):
         progress = []
         rospy.Subscriber("/body_scan/walk_progress", WalkProgress,
                          lambda p: progress.append((p.state, p.pose_index)), queue_size=20)
-        rospy.wait_for_service("/body_scan/capture_walk", timeout=60)
+        rospy.wait_for_service("/body_scan/capture_walk", timeout=60 * TIME_SCALE)
 
         record = None
         bag = os.path.join(work, "walk.bag")
@@ -110,7 +110,7 @@ class WalkSession(unittest.TestCase):
             if record:
                 time.sleep(1.0)  # the bag writer drains its queue
                 record.send_signal(signal.SIGINT)
-                record.wait(timeout=30)
+                record.wait(timeout=30 * TIME_SCALE)
         self.assertIsNotNone(answer, "no walk identity on /body_gait/identity")
         print("[ figure ] walk %d of %s: %s; rank-5 %s" % (
             walk.walk_id, name, describe(answer),
@@ -143,7 +143,7 @@ class WalkSession(unittest.TestCase):
             again = replayed.walk(walk.walk_id, 180)
         finally:
             player.send_signal(signal.SIGINT)
-            player.wait(timeout=30)
+            player.wait(timeout=30 * TIME_SCALE)
         self.assertIsNotNone(again, "no walk identity on /replay/body_gait/identity")
         print("[ figure ] replayed walk %d: %s" % (again.walk_id, describe(again)))
         self.assertEqual(again.name, answer.name)

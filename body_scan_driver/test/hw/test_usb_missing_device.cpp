@@ -2,6 +2,7 @@
 // usb_missing_device.test): the usb pair without its camera reports ERROR naming the device and
 // list_devices, keeps retrying with growing intervals, and the simulated pair in the same
 // manager keeps publishing; a pair with an unknown backend reports ERROR naming the backends.
+#include <body_scan_driver/test_time_scale.h>
 #include <body_scan_msgs/PatternSet.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
@@ -9,6 +10,8 @@
 
 #include <algorithm>
 #include <mutex>
+
+using body_scan_driver::scaledSeconds;
 
 namespace {
 
@@ -35,7 +38,7 @@ TEST(UsbMissingDevice, ErrorDiagnosticsRetriesAndTheSimPairKeepsWorking) {
   const std::string missing = pnh.param<std::string>("missing_device", "1234:5678/NOSUCHCAM");
   const std::string sim_topic =
       pnh.param<std::string>("sim_pattern_topic", "/pole_a/pair_1/pattern_set");
-  const double duration = pnh.param("duration", 6.0);
+  const double duration = scaledSeconds(pnh.param("duration", 6.0));
 
   std::mutex mutex;
   const std::string unknown_backend_pair =
@@ -62,7 +65,7 @@ TEST(UsbMissingDevice, ErrorDiagnosticsRetriesAndTheSimPairKeepsWorking) {
 
   // Wait for the first usb diagnostic (nodelets loading), then watch for `duration`.
   const ros::WallTime start = ros::WallTime::now();
-  while (ros::ok() && (ros::WallTime::now() - start).toSec() < 30) {
+  while (ros::ok() && (ros::WallTime::now() - start).toSec() < scaledSeconds(30)) {
     {
       std::lock_guard<std::mutex> lock(mutex);
       if (!usb_statuses.empty()) break;
@@ -125,7 +128,7 @@ TEST(UsbMissingDevice, ErrorDiagnosticsRetriesAndTheSimPairKeepsWorking) {
     longest_gap = std::max(longest_gap, (sim_sets[i] - sim_sets[i - 1]).toSec());
   std::cout << "[ figure ] simulated pair: longest gap between pattern sets " << longest_gap
             << " s\n";
-  EXPECT_LT(longest_gap, 3.0);
+  EXPECT_LT(longest_gap, scaledSeconds(3.0));
   ASSERT_FALSE(sim_statuses.empty());
   EXPECT_EQ(sim_statuses.back().status.level, diagnostic_msgs::DiagnosticStatus::OK);
 
