@@ -654,13 +654,16 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
   // The top of the shoulder is no higher than the shoulders' top the body axes found (the
   // highest slice as wide as shoulders: the acromia): above it, a column reaching in toward the
   // neck meets the trapezius sloping up (the mesh human on the CMU walks: shoulders 37-51 mm
-  // high, 27-41 mm with this bound; the ellipsoid bodies' shoulders 1-2 mm nearer).
+  // high, 27-41 mm with this bound; the ellipsoid bodies' shoulders 1-2 mm nearer). It is
+  // searched within 0.1 of the body height of the torso's top: the line of an arm swung forward
+  // across the body, extended up, passes behind the shoulder and met the buttocks (mesh human,
+  // sampler: an arm not fitted at all).
   auto shoulderOn = [&](const Line& line, double radius) {
     const Eigen::Vector3d column = line.atHeight(torso.top);
     double shoulder_top = -std::numeric_limits<double>::infinity();
     for (const auto& p : model_points)
       if (std::hypot(p.x() - column.x(), p.z() - column.z()) < radius &&
-          p.y() < torso.top + 0.1 * body_height)
+          std::abs(p.y() - torso.top) < 0.1 * body_height)
         shoulder_top = std::max(shoulder_top, p.y());
     if (!std::isfinite(shoulder_top)) shoulder_top = torso.top;
     return line.atHeight(std::min(shoulder_top, axes.shoulder_top) - radius);
