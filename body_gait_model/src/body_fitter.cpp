@@ -89,6 +89,9 @@ constexpr double kJointGap = 0.04;       // m each side of the split left out of
 constexpr double kContactHeight = 0.015, kPlantedReach = 0.07;
 constexpr double kTipCap = 0.03;    // m: an arm's far-end points, before its reach
 constexpr double kCrownCap = 0.02;  // m: the head's top points whose centroid is the vertex
+// The head's highest point this far (m) below the stature the shoulders' top implies: the head is
+// cut off by the viewpoints' sight (a crown missing but for a few mm keeps its direction).
+constexpr double kHeadCutOff = 0.03;
 constexpr double kMaxTipTurn = 30 * kPi / 180;  // the far end's direction from the lower line
 // Bend between the two lines (rad) below which the joint comes from the proportion alone, and
 // above which from the lines' meeting point alone.
@@ -608,9 +611,14 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
   // higher). Measured on the same subjects with dark hair: vertex -3 mm (8 mm RMS) instead of
   // -46 mm. The stature from it sets the hips' height.
   constexpr double kChinToVertex = 0.103;  // * stature
+  // A head cut off well below the crown by the highest viewpoints' sight (tall subjects under the
+  // full scanner's top pairs) keeps the trunk's direction: its visible band's centroid lies on
+  // the face, and the refinement turned a head started there toward the horizontal (mesh human
+  // of 1.95 m: vertex 270 mm forward, 80-120 mm with the trunk's direction).
+  const bool head_cut_off = !head_top_open && head_top - axes.lowest < axes.stature - kHeadCutOff;
   if (head_top_open)
     head_top = std::max(head_top, (chin - kChinToVertex * axes.lowest) / (1 - kChinToVertex));
-  else if (head_count > 10)
+  else if (head_count > 10 && !head_cut_off)
     head_direction = (head_centroid / head_count - chin_centre).normalized();
   // The stature: up to the vertex found (placed from the chin when the hair is unseen), or the
   // axes' estimate from the shoulders' top when the crown lies above the highest viewpoints'
