@@ -160,8 +160,12 @@ TorsoFit fitTorso(const std::vector<Eigen::Vector3d>& model_points, const BodyAx
   // the closed sections below the gap are the thighs with the hands beside them. Below g also
   // only sections at least kMinBaseline under it: the few closed sections just below the waist
   // give directions from w_g that a few mm of centroid noise turns by tens of degrees. With
-  // none left, n_lt is the vertical.
+  // none left, or n_lt beyond kMaxLowerTilt of the vertical, n_lt is the vertical: where a long
+  // stride keeps the sections large below the crotch, they hold two legs (and hands), whose
+  // polygon's centroid lies anywhere (mesh human in a stride: n_lt 49 deg off the vertical,
+  // every leg point on one side of the hips' centre).
   constexpr double kMinBaseline = 0.05;  // m
+  const double kMaxLowerTilt = 30 * kPi / 180;
   auto closed = [&](const CrossSection& s) {
     return s.area > 0 && s.filled_sectors >= options.sectors * 3 / 4;
   };
@@ -174,6 +178,8 @@ TorsoFit fitTorso(const std::vector<Eigen::Vector3d>& model_points, const BodyAx
       down.push_back((centreOf(torso.sections[i]) - torso.waist).normalized());
   torso.upper_direction = medianDirection(up, Eigen::Vector3d::UnitY());
   torso.lower_direction = medianDirection(down, -Eigen::Vector3d::UnitY());
+  if (-torso.lower_direction.y() < std::cos(kMaxLowerTilt))
+    torso.lower_direction = -Eigen::Vector3d::UnitY();
   // Equivalent-circle radii: at g, and the mean of the quarter next to each end.
   auto meanRadius = [&](int from, int to) {
     double sum = 0;
