@@ -89,6 +89,9 @@ constexpr double kJointGap = 0.04;       // m each side of the split left out of
 constexpr double kContactHeight = 0.015, kPlantedReach = 0.07;
 constexpr double kTipCap = 0.03;    // m: an arm's far-end points, before its reach
 constexpr double kCrownCap = 0.02;  // m: the head's top points whose centroid is the vertex
+// The head's highest point this far (m) below the stature the shoulders' top implies: the head is
+// cut off by the viewpoints' sight (a crown missing but for a few mm keeps its direction).
+constexpr double kHeadCutOff = 0.03;
 constexpr double kMaxTipTurn = 30 * kPi / 180;  // the far end's direction from the lower line
 // Bend between the two lines (rad) below which the joint comes from the proportion alone, and
 // above which from the lines' meeting point alone.
@@ -608,9 +611,14 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
   // higher). Measured on the same subjects with dark hair: vertex -3 mm (8 mm RMS) instead of
   // -46 mm. The stature from it sets the hips' height.
   constexpr double kChinToVertex = 0.103;  // * stature
+  // A head cut off well below the crown by the highest viewpoints' sight (tall subjects under the
+  // full scanner's top pairs) keeps the trunk's direction: its visible band's centroid lies on
+  // the face, and the refinement turned a head started there toward the horizontal (mesh human
+  // of 1.95 m: vertex 270 mm forward, 80-120 mm with the trunk's direction).
+  const bool head_cut_off = !head_top_open && head_top - axes.lowest < axes.stature - kHeadCutOff;
   if (head_top_open)
     head_top = std::max(head_top, (chin - kChinToVertex * axes.lowest) / (1 - kChinToVertex));
-  else if (head_count > 10)
+  else if (head_count > 10 && !head_cut_off)
     head_direction = (head_centroid / head_count - chin_centre).normalized();
   // The stature: up to the vertex found (placed from the chin when the hair is unseen), or the
   // axes' estimate from the shoulders' top when the crown lies above the highest viewpoints'
@@ -654,13 +662,16 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
   // The top of the shoulder is no higher than the shoulders' top the body axes found (the
   // highest slice as wide as shoulders: the acromia): above it, a column reaching in toward the
   // neck meets the trapezius sloping up (the mesh human on the CMU walks: shoulders 37-51 mm
-  // high, 27-41 mm with this bound; the ellipsoid bodies' shoulders 1-2 mm nearer).
+  // high, 27-41 mm with this bound; the ellipsoid bodies' shoulders 1-2 mm nearer). It is
+  // searched within 0.1 of the body height of the torso's top: the line of an arm swung forward
+  // across the body, extended up, passes behind the shoulder and met the buttocks (mesh human,
+  // sampler: an arm not fitted at all).
   auto shoulderOn = [&](const Line& line, double radius) {
     const Eigen::Vector3d column = line.atHeight(torso.top);
     double shoulder_top = -std::numeric_limits<double>::infinity();
     for (const auto& p : model_points)
       if (std::hypot(p.x() - column.x(), p.z() - column.z()) < radius &&
-          p.y() < torso.top + 0.1 * body_height)
+          std::abs(p.y() - torso.top) < 0.1 * body_height)
         shoulder_top = std::max(shoulder_top, p.y());
     if (!std::isfinite(shoulder_top)) shoulder_top = torso.top;
     return line.atHeight(std::min(shoulder_top, axes.shoulder_top) - radius);

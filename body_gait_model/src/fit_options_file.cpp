@@ -80,6 +80,7 @@ FitOptions loadFitOptions(const std::string& path) {
   Section torso(path, "torso.");
   torso.field("sectors", options.torso.sectors)
       .field("delta_ut", options.torso.delta_ut)
+      .field("max_top_above_shoulders", options.torso.max_top_above_shoulders)
       .field("delta_lt", options.torso.delta_lt)
       .field("slice_step", options.torso.slice_step)
       .field("min_base_height", options.torso.min_base_height);

@@ -121,11 +121,21 @@ TorsoFit fitTorso(const std::vector<Eigen::Vector3d>& model_points, const BodyAx
   torso.area_g = torso.sections[g_index].area;
   // Eqs 5.5, 5.6: the first sections above / below g smaller than delta * a_g.
   int top = -1, base = -1;
-  for (int i = g_index + 1; i < int(torso.sections.size()); ++i)
-    if (torso.sections[i].area < options.delta_ut * torso.area_g) {
-      top = i;
-      break;
+  auto topAbove = [&](bool largest_reference) {
+    double reference = torso.area_g;
+    for (int i = g_index + 1; i < int(torso.sections.size()); ++i) {
+      if (torso.sections[i].area < options.delta_ut * reference) return i;
+      if (largest_reference) reference = std::max(reference, torso.sections[i].area);
     }
+    return -1;
+  };
+  top = topAbove(false);
+  // The neck's base lies a few cm above the shoulders' top. A top found far above it is in the
+  // head: a waist at g narrower than the chest (a woman's body: neck 0.26-0.30 a_g) never let
+  // the sections narrow below delta_ut a_g. Then a_g is the largest section from g up.
+  if (top < 0 || torso.sections[top].height >
+                     axes.shoulder_top + options.max_top_above_shoulders * axes.height())
+    top = topAbove(true);
   // The crotch lies at ~0.47 of the stature (Drillis & Contini): below min_base_height the
   // sections are legs whatever their area (long strides under dark trunks keep it large).
   for (int i = g_index - 1; i >= 0; --i)
@@ -150,8 +160,12 @@ TorsoFit fitTorso(const std::vector<Eigen::Vector3d>& model_points, const BodyAx
   // the closed sections below the gap are the thighs with the hands beside them. Below g also
   // only sections at least kMinBaseline under it: the few closed sections just below the waist
   // give directions from w_g that a few mm of centroid noise turns by tens of degrees. With
-  // none left, n_lt is the vertical.
+  // none left, or n_lt beyond kMaxLowerTilt of the vertical, n_lt is the vertical: where a long
+  // stride keeps the sections large below the crotch, they hold two legs (and hands), whose
+  // polygon's centroid lies anywhere (mesh human in a stride: n_lt 49 deg off the vertical,
+  // every leg point on one side of the hips' centre).
   constexpr double kMinBaseline = 0.05;  // m
+  const double kMaxLowerTilt = 30 * kPi / 180;
   auto closed = [&](const CrossSection& s) {
     return s.area > 0 && s.filled_sectors >= options.sectors * 3 / 4;
   };
@@ -164,6 +178,8 @@ TorsoFit fitTorso(const std::vector<Eigen::Vector3d>& model_points, const BodyAx
       down.push_back((centreOf(torso.sections[i]) - torso.waist).normalized());
   torso.upper_direction = medianDirection(up, Eigen::Vector3d::UnitY());
   torso.lower_direction = medianDirection(down, -Eigen::Vector3d::UnitY());
+  if (-torso.lower_direction.y() < std::cos(kMaxLowerTilt))
+    torso.lower_direction = -Eigen::Vector3d::UnitY();
   // Equivalent-circle radii: at g, and the mean of the quarter next to each end.
   auto meanRadius = [&](int from, int to) {
     double sum = 0;

@@ -9,8 +9,11 @@
 namespace body_gait_model {
 
 struct TorsoOptions {
-  int sectors = 36;               // R: regions radiating from the axis point w_h
-  double delta_ut = 0.25;         // eq 5.5: top of the upper torso where a_l < delta_ut a_g
+  int sectors = 36;        // R: regions radiating from the axis point w_h
+  double delta_ut = 0.25;  // eq 5.5: top of the upper torso where a_l < delta_ut a_g
+  // A top found more than this (* body height) above the shoulders' top (BodyAxes) lies in the
+  // head: then a_g is the largest section from g up (a chest much wider than the waist at g).
+  double max_top_above_shoulders = 0.05;
   double delta_lt = 0.5;          // eq 5.6: base of the lower torso where a_l < delta_lt a_g
   double slice_step = 0.01;       // m between cross-sections (and their thickness)
   double min_base_height = 0.40;  // * body height above the lowest point: the base's floor
