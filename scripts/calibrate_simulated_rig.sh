@@ -9,7 +9,7 @@
 #   EXPOSURES=16 (frames averaged per pattern), BIN=dir of the tools (default build/devel/...),
 #   REPORT=FILE, PLOT=FILE (default OUT_DIR/world_alignment.yaml, .png),
 #   CALIBRATE_OPTIONS, ALIGN_OPTIONS: more options for calibrate_simulated_pair and
-#   align_simulated_rig (e.g. CALIBRATE_OPTIONS=--robust-decoding, both --ideal-optics)
+#   align_simulated_rig (e.g. CALIBRATE_OPTIONS="--decoding standard", both --ideal-optics)
 #
 # Writes OUT_DIR/estimated/<pole>_<pair>.yaml (+ _accuracy.yaml, _projector_parameters.png),
 # OUT_DIR/aligned/<pole>_<pair>.yaml (with world_alignment) and the E_h report and plot.

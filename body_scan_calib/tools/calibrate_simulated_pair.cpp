@@ -18,7 +18,8 @@ namespace {
 struct Arguments {
   std::string pair, pair_id, save_images;
   int exposures = 16;
-  bool refinement = true, ideal_optics = false, robust_decoding = false;
+  bool refinement = true, ideal_optics = false;
+  body_scan_calib::tools::DecodingChoice decoding;
   body_scan_calib::PairCalibrationFiles files;
 };
 
@@ -42,9 +43,10 @@ std::optional<int> parse(int argc, char** argv, Arguments& arguments) {
   app.add_option("--save-images", arguments.save_images,
                  "also write the captures in the layout of calibrate_pair --images");
   body_scan_calib::tools::addIdealOpticsFlag(app, arguments.ideal_optics);
-  app.add_flag("--robust-decoding", arguments.robust_decoding,
-               "decode the board poses with the robust decoding of real captures "
-               "(robust_decoding.h; default: the driver's decoder as is)");
+  body_scan_calib::tools::addDecodingOption(
+      app, arguments.decoding,
+      "robust, as for real captures; standard with --ideal-optics (calibrate_pair --decoding "
+      "reads --save-images back the same way)");
   bool no_refinement = false;
   body_scan_calib::tools::addPairCalibrationOutputs(app, arguments.files, no_refinement);
   if (const auto status = body_scan_driver::tools::parseCommandLine(app, argc, argv)) return status;
@@ -65,7 +67,7 @@ int main(int argc, char** argv) {
     if (!arguments.ideal_optics) config = body_scan_driver::sim::withRealCaptureOptics(config);
     body_scan_calib::PairCalibrationOptions options;
     options.joint_refinement = arguments.refinement;
-    options.decoding.enabled = arguments.robust_decoding;
+    options.decoding.enabled = arguments.decoding.robust(!arguments.ideal_optics);
     options.pair_id = arguments.pair_id.empty() ? config.pair_id : arguments.pair_id;
     const body_scan_calib::PairViews views = body_scan_calib::sim::captureSimulatedPairViews(
         config, options.board, arguments.exposures, arguments.save_images);

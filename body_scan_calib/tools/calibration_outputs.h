@@ -82,23 +82,28 @@ struct CaptureOptions {
   }
 };
 
-// --decoding standard|robust (capture_decoding.h). Unless given, robust for every layout but
-// the project's own (whose pairs the standard decoder is tuned on).
+// --decoding standard|robust (capture_decoding.h). Unless given, robust for images like real
+// captures and standard for the project's own (the images the standard decoder is tuned on).
 struct DecodingChoice {
-  enum class Kind { kByLayout, kStandard, kRobust } kind = Kind::kByLayout;
-  bool robust(const CaptureOptions& capture) const {
-    return kind == Kind::kRobust || (kind == Kind::kByLayout && capture.layout != "project");
+  enum class Kind { kByImages, kStandard, kRobust } kind = Kind::kByImages;
+  bool robust(bool real_like_images) const {
+    return kind == Kind::kRobust || (kind == Kind::kByImages && real_like_images);
   }
+  bool robust(const CaptureOptions& capture) const { return robust(capture.layout != "project"); }
 };
 
-inline void addDecodingOption(CLI::App& app, DecodingChoice& choice) {
+// default_text: when the tool decodes robustly without --decoding.
+inline void addDecodingOption(CLI::App& app, DecodingChoice& choice,
+                              const std::string& default_text =
+                                  "robust except for --layout "
+                                  "project") {
   body_scan_driver::tools::addChoice<DecodingChoice::Kind>(
       app, "--decoding", choice.kind,
       {{"standard", DecodingChoice::Kind::kStandard}, {"robust", DecodingChoice::Kind::kRobust}},
       "standard: the driver's decoder as is (tuned on the simulator); robust: real captures "
       "(dark albedo decoded, codes inconsistent with their neighbours or the row code "
-      "rejected, a contrast-weighted local plane fit of the coordinate). Default: robust except "
-      "for --layout project");
+      "rejected, a contrast-weighted local plane fit of the coordinate). Default: " +
+          default_text);
 }
 
 inline void addCaptureOptions(CLI::App& app, CaptureOptions& capture) {
