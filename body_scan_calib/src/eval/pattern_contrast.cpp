@@ -279,18 +279,16 @@ std::array<NoiseAtLevel, kNoiseLevelEdges.size() - 1> sensorNoiseByLevel(
     }
   }
   std::array<NoiseAtLevel, kBands> result;
-  auto standardDeviation = [](const std::vector<float>& x, double cut) {
+  auto standardDeviation = [](const std::vector<float>& x) {
+    if (x.empty()) return 0.0;
     double sum = 0, squares = 0;
-    size_t n = 0;
-    for (float value : x)
-      if (std::abs(value) <= cut) sum += value, squares += double{value} * value, ++n;
-    if (n == 0) return 0.0;
-    const double mean = sum / n;
-    return std::sqrt(std::max(0.0, squares / n - mean * mean));
+    for (float value : x) sum += value, squares += double{value} * value;
+    const double mean = sum / x.size();
+    return std::sqrt(std::max(0.0, squares / x.size() - mean * mean));
   };
   for (size_t band = 0; band < kBands; ++band) {
     if (differences[band].empty()) continue;
-    const double all = standardDeviation(differences[band], 1e30);
+    const double all = standardDeviation(differences[band]);
     std::vector<float> kept;
     for (float value : differences[band])
       if (std::abs(value) <= 4 * all) kept.push_back(value);
@@ -299,7 +297,7 @@ std::array<NoiseAtLevel, kNoiseLevelEdges.size() - 1> sensorNoiseByLevel(
     result[band].samples = kept.size();
     result[band].level = level_sum / levels[band].size();
     result[band].sigma =
-        standardDeviation(kept, 1e30) / std::sqrt(2.0 * (1.0 - 1.0 / (kWindow * kWindow)));
+        standardDeviation(kept) / std::sqrt(2.0 * (1.0 - 1.0 / (kWindow * kWindow)));
   }
   return result;
 }
