@@ -66,6 +66,9 @@ struct LimbFit {
   Eigen::Vector3d distal_end = Eigen::Vector3d::Zero();       // hand tip or sole
   double upper_radius[2] = {0, 0}, lower_radius[2] = {0, 0};  // proximal, distal
   int points = 0;
+  // Legs: the centre of the shank's section just above the ankle (ankleCentre), if found.
+  Eigen::Vector3d ankle = Eigen::Vector3d::Zero();
+  bool ankle_found = false;
 };
 
 double mean(const std::vector<double>& values) {
@@ -87,6 +90,10 @@ constexpr double kJointGap = 0.04;       // m each side of the split left out of
 // A leg's points this close to the lowest point touch the floor (m), and its foot is planted
 // when one of them lies this close (horizontally) to where the shank's line meets the floor.
 constexpr double kContactHeight = 0.015, kPlantedReach = 0.07;
+// A planted sole lies at most this far beyond the leg's farthest point along the shank (the
+// scanner sees little of a foot's underside: 20-50 mm); a floor point farther along the line is
+// the other foot's, met by a lifted shank's line.
+constexpr double kPlantedBeyondSole = 0.06;
 constexpr double kTipCap = 0.03;    // m: an arm's far-end points, before its reach
 constexpr double kCrownCap = 0.02;  // m: the head's top points whose centroid is the vertex
 // The head's highest point this far (m) below the stature the shoulders' top implies: the head is
@@ -266,6 +273,54 @@ double polygonRadius(const CrossSection& section, double phi, int sectors) {
   if (section.polygon.empty()) return 0;
   const int sector = std::clamp(int((phi + kPi) / (2 * kPi) * sectors), 0, sectors - 1);
   return section.polygon[sector].norm();
+}
+
+// The centre of a leg's shank just above the ankle: a circle fitted (Kasa's algebraic fit) to the
+// leg's points between kAnkleBand[0] and kAnkleBand[1] of the body height below the knee along
+// the knee-to-sole line (Drillis & Contini: knee 0.285, ankle 0.039 of the stature high, so the
+// band lies 0.045-0.085 above the ankle), within kAnkleReach of the line (a foot reaches across
+// it: with a heel-off foot's points some ellipsoid bodies' soles came out 30-70 mm off), and no
+// lower than kAnkleAboveSole above the sole. There the shank is tibia, fibula and tendons, centred
+// on the ankle joint; higher up the calf bulges behind the tibia: on the mesh human the shank's
+// surface centre lies 20-25 mm behind the knee-to-ankle line over its upper half and 0-8 mm in this
+// band (the ellipsoid body: 0-1 mm all along), so a line fitted to the shank's surface misses the
+// ankle. False when the band holds too few points or no arc.
+constexpr double kAnkleBand[2] = {0.18, 0.22};  // * body height below the knee
+constexpr double kAnkleReach = 0.07;            // m from the knee-to-sole line
+constexpr double kAnkleAboveSole = 0.04;        // * body height
+bool ankleCentre(const std::vector<Eigen::Vector3d>& leg_points, const Eigen::Vector3d& knee,
+                 const Eigen::Vector3d& sole, double body_height, Eigen::Vector3d* centre) {
+  const Eigen::Vector3d axis = (sole - knee).normalized();
+  const double sole_along = (sole - knee).dot(axis);
+  const double from = kAnkleBand[0] * body_height,
+               to = std::min(kAnkleBand[1] * body_height,
+                             sole_along - kAnkleAboveSole * body_height);
+  // A frame across the axis.
+  const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d right_side = Eigen::Vector3d::Zero();
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  int count = 0;
+  for (const auto& p : leg_points) {
+    const Eigen::Vector3d r = p - knee;
+    const double along = r.dot(axis);
+    if (along < from || along > to) continue;
+    const double a = r.dot(u), b = r.dot(v);
+    if (std::hypot(a, b) > kAnkleReach) continue;
+    const Eigen::Vector3d row(a, b, 1.0);
+    normal += row * row.transpose();
+    right_side -= row * (a * a + b * b);
+    sum += Eigen::Vector2d(a, b);
+    ++count;
+  }
+  constexpr int kMinPoints = 20;
+  if (count < kMinPoints) return false;
+  const Eigen::Vector3d circle = normal.ldlt().solve(right_side);
+  const Eigen::Vector2d middle(-circle[0] / 2, -circle[1] / 2);
+  // A degenerate band (a straight wall, stray points) leaves the centre far off the points.
+  if (!middle.allFinite() || (middle - sum / count).norm() > 0.05) return false;
+  *centre = knee + (from + to) / 2 * axis + middle.x() * u + middle.y() * v;
+  return true;
 }
 
 enum Part { kTorsoPart, kHeadPart, kRightArm, kLeftArm, kRightLeg, kLeftLeg, kUnassigned };
@@ -742,6 +797,9 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
           reach.push_back((p - limbs[limb].middle_joint).dot(limbs[limb].lower.direction));
         limbs[limb].distal_end =
             limbs[limb].middle_joint + quantile(reach, 0.995) * limbs[limb].lower.direction;
+        limbs[limb].ankle_found =
+            ankleCentre(limb_points[limb], limbs[limb].middle_joint, limbs[limb].distal_end,
+                        body_height, &limbs[limb].ankle);
       }
     }
     if (!limbs[limb].valid)
@@ -865,6 +923,9 @@ struct DirectFit {
   Cloud without_feet;   // the fitting cloud above the feet (the model has none): refinement's
   Eigen::Vector3d soles[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};      // world
   Eigen::Vector3d hand_tips[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};  // world
+  // Each shank's centre just above the ankle (world; ankleCentre), when found.
+  Eigen::Vector3d ankles[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  bool ankle_found[2] = {false, false};
   // The vertex (world) when crown_known: seen, or under dark hair placed from the chin on the
   // trunk's axis (the refinement has only the face to turn that head to: on 10 subjects x 4 poses
   // with dark hair the head top came out 37 mm forward, 5 mm aimed at the placed vertex).
@@ -957,6 +1018,11 @@ DirectFit fitDirectly(const Cloud& full_cloud, const FitOptions& options) {
     direct.crown_known = head.crown_seen || head.hair_unseen;
     direct.pelvis_seen = pelvisSeen(torso, axes.lowest + options.hip_height * head.stature,
                                     head.stature, options.torso.sectors);
+    for (int side = 0; side < 2; ++side) {
+      const LimbFit& leg = joints.limbs[side == 0 ? kRightLeg : kLeftLeg];
+      direct.ankles[side] = axes.toWorld(leg.ankle);
+      direct.ankle_found[side] = leg.ankle_found;
+    }
     direct.hand_tips[0] = axes.toWorld(joints.limbs[kRightArm].distal_end);
     direct.hand_tips[1] = axes.toWorld(joints.limbs[kLeftArm].distal_end);
     direct.fitted = true;
@@ -994,6 +1060,7 @@ ShankLengths shankLengthsToSoles(const BodyModel& model, const DirectFit& direct
         std::max((direct.soles[side] - shank.proximal).dot(direction), min_length);
     if (direction.z() > -0.5) continue;  // a leg this far from upright: no floor point
     const double along = (direct.floor - shank.proximal.z()) / direction.z();
+    if (along > shanks.length[side] + kPlantedBeyondSole) continue;
     const Eigen::Vector3d on_floor = shank.proximal + along * direction;
     for (const Eigen::Vector3d& contact : direct.contacts[side])
       if (std::hypot(contact.x() - on_floor.x(), contact.y() - on_floor.y()) < kPlantedReach) {
@@ -1038,6 +1105,26 @@ void aimSegmentAt(BodyModel& model, int segment, const Eigen::Vector3d& target) 
   const Eigen::Vector2d angles = jointAnglesForDirection(
       posed.segments[info.parent].frame.linear().transpose() * direction, info.points_up);
   model.setJointAngles(segment, angles[0], angles[1]);
+}
+
+// The refinement turns each shank to its surface, whose calf bulges behind the tibia (mesh human
+// on the full scanner: soles 30 mm behind and 30 mm lateral of the true ones, the shank turned
+// 3-5 deg off its bone): each lower leg is aimed from its refined knee at the shank's centre
+// above the ankle (ankleCentre) when that lies within kMaxShankTurn of the refined line (beyond,
+// the band held something else than the shank).
+constexpr double kMaxShankTurn = 8 * kPi / 180;
+void aimLowerLegsAtAnkles(BodyModel& model, const DirectFit& direct, const JointLimitSet& limits) {
+  for (int side = 0; side < 2; ++side) {
+    if (!direct.ankle_found[side]) continue;
+    const int segment = side == 0 ? kRightLowerLeg : kLeftLowerLeg;
+    const PosedModel posed = forwardKinematics(model);
+    const PosedSegment& shank = posed.segments[segment];
+    const Eigen::Vector3d to_ankle = direct.ankles[side] - shank.proximal;
+    if (to_ankle.normalized().dot((shank.distal - shank.proximal).normalized()) >
+        std::cos(kMaxShankTurn))
+      aimSegmentAt(model, segment, direct.ankles[side]);
+  }
+  model = clampToJointLimits(model, limits);
 }
 
 HandTips elbowToHandTips(const BodyModel& model, const DirectFit& direct,
@@ -1109,6 +1196,7 @@ BodyFit fitBody(const Cloud& full_cloud, const FitOptions& options) {
     BodyModel& model = direct.fit.model;
     direct.fit.refinement =
         refineModel(model, direct.without_feet, options.refinement, options.joint_limits);
+    aimLowerLegsAtAnkles(model, direct, options.joint_limits);
     const auto shanks = shankLengthsToSoles(model, direct, options.refinement.min_length);
     model.r[kRightLowerLeg] = shanks.length[0];
     model.r[kLeftLowerLeg] = shanks.length[1];
@@ -1168,6 +1256,8 @@ WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options) {
       RefinementOptions refinement = options.refinement;
       for (size_t i : fitted) refinement.hold_thighs_in_walks |= !directs[i].pelvis_seen;
       result.refinement = refineWalk(models, clouds, refinement, options.joint_limits);
+      for (size_t k = 0; k < fitted.size(); ++k)
+        aimLowerLegsAtAnkles(models[k], directs[fitted[k]], options.joint_limits);
       // Each lower leg: the median over the scans where its foot is planted (else over all).
       std::vector<double> shank_lengths[2], planted_lengths[2];
       for (size_t k = 0; k < fitted.size(); ++k) {

@@ -243,5 +243,22 @@ TEST(BodyFitter, MeshHumanWomanTallManAndLongStrideAreFitted) {
   }
 }
 
+TEST(BodyFitter, MeshHumanSolesFollowTheShankAboveTheAnkle) {
+  // The mesh human's calf bulges behind the tibia, so the shank's surface axis misses the ankle;
+  // each lower leg is aimed at its section's centre just above the ankle. Mean sole error over two
+  // people's 4 poses at evaluate_body_fit's headings (the sampler).
+  double sole = 0;
+  int cases = 0;
+  for (int k : {2, 6}) {
+    for (int pose = 1; pose <= 4; ++pose, ++cases) {
+      const eval::FitErrors errors = fitMeshSamplerCase(k, pose).errors;
+      sole += (errors.joint_error.at("left_sole") + errors.joint_error.at("right_sole")) / 2;
+    }
+  }
+  sole /= cases;
+  std::printf("[ figure ] mesh human: soles %.1f mm off\n", 1000 * sole);
+  EXPECT_LE(sole, 0.035);  // 19.5 mm; 62.3 mm along the shank's surface axis
+}
+
 }  // namespace
 }  // namespace body_gait_model

@@ -106,9 +106,10 @@ struct WalkFit {
 // The scans of one walk of one person (e.g. the 4 representative poses of 5.3), fitted together:
 // each scan's direct fit as fitBody's, then one body for all (each segment length, radius and
 // joint offset the median over the scans), then one Ceres refinement of every scan's pose (p, q)
-// with the lengths shared; the free ends' lengths (lower legs, lower arms, head) are then the
-// medians of each scan's distance to the sole on the floor, the hand tip and the vertex it shows,
-// and each scan's lower arms and head are aimed at its own. A scan that is no body at all throws
+// with the lengths shared; each scan's lower legs are aimed at its shanks' centres just above the
+// ankles, the free ends' lengths (lower legs, lower arms, head) are then the medians of each
+// scan's distance to the sole on the floor, the hand tip and the vertex it shows, and each scan's
+// lower arms and head are aimed at its own. A scan that is no body at all throws
 // as in fitBody; one shaped unlike a body comes back flagged and stays out of the shared body.
 WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options = {});
 
