@@ -165,7 +165,7 @@ TorsoFit fitTorso(const std::vector<Eigen::Vector3d>& model_points, const BodyAx
   // polygon's centroid lies anywhere (mesh human in a stride: n_lt 49 deg off the vertical,
   // every leg point on one side of the hips' centre).
   constexpr double kMinBaseline = 0.05;  // m
-  const double kMaxLowerTilt = 30 * kPi / 180;
+  constexpr double kMaxLowerTilt = 30 * kPi / 180;
   auto closed = [&](const CrossSection& s) {
     return s.area > 0 && s.filled_sectors >= options.sectors * 3 / 4;
   };
