@@ -5,16 +5,14 @@ an undocumented or stale parameter fails the check.
 Usage: /usr/bin/python3 scripts/test_check_param_docs.py [--junit FILE]
 """
 
-import argparse
 import os
 import sys
 import tempfile
 import textwrap
-import time
 import unittest
 
 import check_param_docs as check
-from junit import write_junit
+from junit import run_unit_tests
 
 NODELET = textwrap.dedent("""\
     // A nodelet; "~commented" and pnh.param("in_comment", 1) are not reads.
@@ -213,38 +211,7 @@ class LaunchFiles(PackageFixture):
         self.assertIn("~ratee of node t (demo/Thing)", problems[0])
 
 
-def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--junit")
-    args = parser.parse_args()
-    suite = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[__name__])
-    cases = []
-
-    class Recorder(unittest.TextTestResult):
-        def startTest(self, test):
-            self.started = time.time()
-            super().startTest(test)
-
-        def record(self, test, failure):
-            cases.append((test.id().split(".", 1)[1], time.time() - self.started, failure, ""))
-
-        def addSuccess(self, test):
-            super().addSuccess(test)
-            self.record(test, None)
-
-        def addFailure(self, test, err):
-            super().addFailure(test, err)
-            self.record(test, self._exc_info_to_string(err, test))
-
-        def addError(self, test, err):
-            super().addError(test, err)
-            self.record(test, self._exc_info_to_string(err, test))
-
-    result = unittest.TextTestRunner(resultclass=Recorder, verbosity=2).run(suite)
-    if args.junit:
-        write_junit(args.junit, "check_param_docs_unit", cases)
-    return 0 if result.wasSuccessful() else 1
-
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_unit_tests(sys.modules[__name__], "check_param_docs_unit",
+                            __doc__.split("\n\n")[0]))

@@ -6,16 +6,15 @@ fails and is named.
 
   scripts/test_check_product_links.py [--junit FILE]
 """
-import argparse
 import os
 import subprocess
 import sys
 import tempfile
-import time
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from check_product_links import check_strings  # noqa: E402
+from junit import run_unit_tests  # noqa: E402
 
 
 class PathCheck(unittest.TestCase):
@@ -59,23 +58,7 @@ class PathCheck(unittest.TestCase):
         self.assertIn("../shared/data", problems[0])
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--junit", metavar="FILE", help="also write a JUnit XML result file")
-    args = parser.parse_args()
-    start = time.monotonic()
-    result = unittest.TextTestRunner(verbosity=2).run(
-        unittest.defaultTestLoader.loadTestsFromTestCase(PathCheck))
-    if args.junit:
-        from junit import write_junit
-        failed = {test.id(): text for test, text in result.failures + result.errors}
-        names = unittest.defaultTestLoader.getTestCaseNames(PathCheck)
-        seconds = (time.monotonic() - start) / max(1, len(names))
-        write_junit(args.junit, "product_links_unit",
-                    [(name, seconds, failed.get(f"{__name__}.PathCheck.{name}"), "")
-                     for name in names])
-    return 0 if result.wasSuccessful() else 1
-
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_unit_tests(sys.modules[__name__], "product_links_unit",
+                            __doc__.split("\n\n")[0]))

@@ -6,15 +6,14 @@ alike.
 
   scripts/test_soak_rule.py [--junit FILE]
 """
-import argparse
 import os
 import random
 import sys
-import time
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from soak import rss_growth  # noqa: E402
+from junit import run_unit_tests  # noqa: E402
 
 SCANS = list(range(10, 301, 5))
 BASE_KIB = 97_600  # the body fitter's level in the soak
@@ -67,23 +66,6 @@ class RssGrowthRule(unittest.TestCase):
         self.assertIsNone(rss_growth([(scan, BASE_KIB) for scan in SCANS[:7]], 10))
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--junit", metavar="FILE", help="also write a JUnit XML result file")
-    args = parser.parse_args()
-    start = time.monotonic()
-    result = unittest.TextTestRunner(verbosity=2).run(
-        unittest.defaultTestLoader.loadTestsFromTestCase(RssGrowthRule))
-    if args.junit:
-        from junit import write_junit
-        failed = {test.id(): text for test, text in result.failures + result.errors}
-        names = unittest.defaultTestLoader.getTestCaseNames(RssGrowthRule)
-        seconds = (time.monotonic() - start) / max(1, len(names))
-        write_junit(args.junit, "soak_rule",
-                    [(name, seconds, failed.get(f"{__name__}.RssGrowthRule.{name}"), "")
-                     for name in names])
-    return 0 if result.wasSuccessful() else 1
-
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_unit_tests(sys.modules[__name__], "soak_rule", __doc__.split("\n\n")[0]))
