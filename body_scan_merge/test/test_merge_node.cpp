@@ -14,6 +14,7 @@
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <thread>
 
 using body_scan_driver::scaledSeconds;
 
@@ -42,6 +43,14 @@ class MergeNode : public testing::Test {
     for (int i = 0; i < 100 && report_sub_.getNumPublishers() == 0; ++i)
       ros::WallDuration(0.1).sleep();
     ASSERT_GT(report_sub_.getNumPublishers(), 0u) << "merge is not publishing scan_report";
+    // Each pair's Triangulate loads after its driver's capture service is up (a slow start, as
+    // under a sanitizer, showed it): wait for every pair's cloud publisher.
+    for (size_t i = 0; i < pairs_.size(); ++i) {
+      const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(scaledSeconds(30));
+      while (pair_subs_[i].getNumPublishers() == 0 && ros::WallTime::now() < deadline)
+        ros::WallDuration(0.05).sleep();
+      ASSERT_GT(pair_subs_[i].getNumPublishers(), 0u) << "no publisher: " << pairs_[i];
+    }
     // What the ScanCoordinator asks before a scan: are the merge's subscriptions connected?
     ASSERT_TRUE(ros::service::waitForService("/body_scan/merge/inputs_connected",
                                              ros::Duration(scaledSeconds(30))));
@@ -111,8 +120,12 @@ class MergeNode : public testing::Test {
 };
 
 TEST_F(MergeNode, MergesAllPairsThenReportsMissingPairAfterTimeout) {
-  // 1. Every pair captures scan 10: one report, all present, counts = each pair's own cloud.
-  for (const auto& pair : pairs_) capture(pair, 10);
+  // 1. Every pair captures scan 10 (at once, as the coordinator triggers a group: one after the
+  //    other, the last cloud came later than the merge's timeout after the first): one report,
+  //    all present, counts = each pair's own cloud.
+  std::vector<std::thread> captures;
+  for (const auto& pair : pairs_) captures.emplace_back([this, pair] { capture(pair, 10); });
+  for (auto& capturing : captures) capturing.join();
   const auto report = waitReport(10, 10.0);
   ASSERT_TRUE(report) << "no scan_report for scan 10";
   EXPECT_EQ(report->pairs_present.size(), 3u);
