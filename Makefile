@@ -188,7 +188,7 @@ ASAN_RT    = $(shell $(CLANG_CXX) -print-file-name=libclang_rt.asan-x86_64.so)
 # detect_leaks=0: ROS's and python's own allocations at exit are not ours to chase.
 # The tests' time limits and waits (rostest time-limit, the launch tests' timeouts) are
 # stretched by BODY_SCAN_TEST_TIME_SCALE: sanitized nodes run several times slower.
-SAN_TIME_SCALE ?= 4
+SAN_TIME_SCALE ?= 8
 SAN_ENV    = BODY_SCAN_TEST_TIME_SCALE=$(SAN_TIME_SCALE) LD_PRELOAD=$(ASAN_RT) \
 	ASAN_OPTIONS=detect_leaks=0:verify_asan_link_order=0:abort_on_error=1:log_path=$(SAN_DIR)/reports/asan \
 	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:log_path=$(SAN_DIR)/reports/ubsan
