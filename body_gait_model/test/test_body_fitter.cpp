@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <functional>
 
 namespace body_gait_model {
 namespace {
@@ -208,21 +209,26 @@ MeshSamplerFit fitMeshSamplerCase(int k, int pose) {
   return result;
 }
 
+// A measure of the fit's errors, averaged over the 4 gait poses of each of these people.
+double meanOverMeshPoses(std::initializer_list<int> people,
+                         const std::function<double(const eval::FitErrors&)>& measure) {
+  double sum = 0;
+  int cases = 0;
+  for (int k : people)
+    for (int pose = 1; pose <= 4; ++pose, ++cases)
+      sum += measure(fitMeshSamplerCase(k, pose).errors);
+  return sum / cases;
+}
+
 TEST(BodyFitter, MeshHumanShouldersStayBelowTheShouldersTop) {
   // The mesh human's trapezius slopes up from the acromion to the neck; the shoulder joints hang
   // from the top of the shoulder no higher than the slice as wide as shoulders. Mean |vertical
   // shoulder error| over two people's 4 poses at evaluate_body_fit's headings (the sampler).
-  double vertical = 0;
-  int cases = 0;
-  for (int k : {5, 7}) {
-    for (int pose = 1; pose <= 4; ++pose, ++cases) {
-      const eval::FitErrors errors = fitMeshSamplerCase(k, pose).errors;
-      vertical += (std::abs(errors.joint_offset.at("left_shoulder").z()) +
-                   std::abs(errors.joint_offset.at("right_shoulder").z())) /
-                  2;
-    }
-  }
-  vertical /= cases;
+  const double vertical = meanOverMeshPoses({5, 7}, [](const eval::FitErrors& errors) {
+    return (std::abs(errors.joint_offset.at("left_shoulder").z()) +
+            std::abs(errors.joint_offset.at("right_shoulder").z())) /
+           2;
+  });
   std::printf("[ figure ] mesh human: shoulders %.1f mm off vertically\n", 1000 * vertical);
   EXPECT_LE(vertical, 0.045);  // 21.2 mm; 73.9 mm with the trapezius taken for the shoulder top
 }
@@ -247,15 +253,9 @@ TEST(BodyFitter, MeshHumanSolesFollowTheShankAboveTheAnkle) {
   // The mesh human's calf bulges behind the tibia, so the shank's surface axis misses the ankle;
   // each lower leg is aimed at its section's centre just above the ankle. Mean sole error over two
   // people's 4 poses at evaluate_body_fit's headings (the sampler).
-  double sole = 0;
-  int cases = 0;
-  for (int k : {2, 6}) {
-    for (int pose = 1; pose <= 4; ++pose, ++cases) {
-      const eval::FitErrors errors = fitMeshSamplerCase(k, pose).errors;
-      sole += (errors.joint_error.at("left_sole") + errors.joint_error.at("right_sole")) / 2;
-    }
-  }
-  sole /= cases;
+  const double sole = meanOverMeshPoses({2, 6}, [](const eval::FitErrors& errors) {
+    return (errors.joint_error.at("left_sole") + errors.joint_error.at("right_sole")) / 2;
+  });
   std::printf("[ figure ] mesh human: soles %.1f mm off\n", 1000 * sole);
   EXPECT_LE(sole, 0.035);  // 19.5 mm; 62.3 mm along the shank's surface axis
 }
