@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -275,7 +276,35 @@ double polygonRadius(const CrossSection& section, double phi, int sectors) {
   return section.polygon[sector].norm();
 }
 
-// The centre of a leg's shank just above the ankle: a circle fitted (Kasa's algebraic fit) to the
+// Kasa's algebraic circle fit of points (a, b) in a plane: a^2 + b^2 + D a + E b + F = 0, least
+// squares in (D, E, F), accumulated point by point.
+struct CircleFit {
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d right_side = Eigen::Vector3d::Zero();
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  int count = 0;
+
+  void add(double a, double b) {
+    const Eigen::Vector3d row(a, b, 1.0);
+    normal += row * row.transpose();
+    right_side -= row * (a * a + b * b);
+    sum += Eigen::Vector2d(a, b);
+    ++count;
+  }
+  Eigen::Vector2d centroid() const { return sum / count; }
+  // The centre; none from fewer than 20 points or a singular system. A degenerate arc (a straight
+  // wall, stray points) leaves it far from the centroid: callers bound that distance.
+  std::optional<Eigen::Vector2d> centre() const {
+    constexpr int kMinPoints = 20;
+    if (count < kMinPoints) return std::nullopt;
+    const Eigen::Vector3d circle = normal.ldlt().solve(right_side);
+    const Eigen::Vector2d centre(-circle[0] / 2, -circle[1] / 2);
+    if (!centre.allFinite()) return std::nullopt;
+    return centre;
+  }
+};
+
+// The centre of a leg's shank just above the ankle: a circle fitted (CircleFit) to the
 // leg's points between kAnkleBand[0] and kAnkleBand[1] of the body height below the knee along
 // the knee-to-sole line (Drillis & Contini: knee 0.285, ankle 0.039 of the stature high, so the
 // band lies 0.045-0.085 above the ankle), within kAnkleReach of the line (a foot reaches across
@@ -297,29 +326,17 @@ bool ankleCentre(const std::vector<Eigen::Vector3d>& leg_points, const Eigen::Ve
                              sole_along - kAnkleAboveSole * body_height);
   // A frame across the axis.
   const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
-  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d right_side = Eigen::Vector3d::Zero();
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  int count = 0;
+  CircleFit section;
   for (const auto& p : leg_points) {
     const Eigen::Vector3d r = p - knee;
     const double along = r.dot(axis);
     if (along < from || along > to) continue;
     const double a = r.dot(u), b = r.dot(v);
-    if (std::hypot(a, b) > kAnkleReach) continue;
-    const Eigen::Vector3d row(a, b, 1.0);
-    normal += row * row.transpose();
-    right_side -= row * (a * a + b * b);
-    sum += Eigen::Vector2d(a, b);
-    ++count;
+    if (std::hypot(a, b) <= kAnkleReach) section.add(a, b);
   }
-  constexpr int kMinPoints = 20;
-  if (count < kMinPoints) return false;
-  const Eigen::Vector3d circle = normal.ldlt().solve(right_side);
-  const Eigen::Vector2d middle(-circle[0] / 2, -circle[1] / 2);
-  // A degenerate band (a straight wall, stray points) leaves the centre far off the points.
-  if (!middle.allFinite() || (middle - sum / count).norm() > 0.05) return false;
-  *centre = knee + (from + to) / 2 * axis + middle.x() * u + middle.y() * v;
+  const auto middle = section.centre();
+  if (!middle || (*middle - section.centroid()).norm() > 0.05) return false;
+  *centre = knee + (from + to) / 2 * axis + middle->x() * u + middle->y() * v;
   return true;
 }
 
@@ -736,32 +753,20 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
   // crotch swings wildly when the knee is bent).
   const double hip_y = axes.lowest + options.hip_height * stature;
   const Eigen::Vector3d pelvis_centre = Line{torso.waist, torso.lower_direction}.atHeight(hip_y);
-  // Each thigh's axis at its top: the centre of a circle fitted to its top 10 cm (Kasa's
-  // algebraic fit). The points' centroid lay ~16 mm outward: the inner thigh, hidden by the
-  // other leg, returns fewer points than the outer.
+  // Each thigh's axis at its top: the centre of a circle fitted to its top 10 cm (CircleFit in
+  // x, z). The points' centroid lay ~16 mm outward: the inner thigh, hidden by the other leg,
+  // returns fewer points than the outer.
   auto thighTopX = [&](Part leg) {
     double top = -1e9;
     for (const auto& p : limb_points[leg]) top = std::max(top, p.y());
-    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d right_side = Eigen::Vector3d::Zero();
-    double sum = 0;
-    int count = 0;
+    CircleFit band;
     for (const auto& p : limb_points[leg])
-      if (p.y() > top - 0.1) {
-        // x^2 + z^2 + D x + E z + F = 0: least squares in (D, E, F).
-        const Eigen::Vector3d row(p.x(), p.z(), 1.0);
-        normal += row * row.transpose();
-        right_side -= row * (p.x() * p.x() + p.z() * p.z());
-        sum += p.x();
-        ++count;
-      }
-    if (count == 0) return pelvis_centre.x();
-    const Eigen::Vector3d circle = normal.ldlt().solve(right_side);
-    const double centroid_x = sum / count, centre_x = -circle[0] / 2;
+      if (p.y() > top - 0.1) band.add(p.x(), p.z());
+    if (band.count == 0) return pelvis_centre.x();
+    const double centroid_x = band.centroid().x();
     // A degenerate band (too few points, a straight wall) keeps the centroid.
-    return count >= 20 && std::isfinite(centre_x) && std::abs(centre_x - centroid_x) < 0.05
-               ? centre_x
-               : centroid_x;
+    const auto centre = band.centre();
+    return centre && std::abs(centre->x() - centroid_x) < 0.05 ? centre->x() : centroid_x;
   };
   const double hip_half_width = std::clamp((thighTopX(kLeftLeg) - thighTopX(kRightLeg)) / 2,
                                            0.02 * body_height, 0.08 * body_height);
