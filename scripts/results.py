@@ -123,7 +123,8 @@ def pair_calibration(r, q):
     report = yaml.safe_load((ROOT / "docs/calibration/pair_accuracy.yaml").read_text())
     camera, projector = report["camera"], report["projector"]
     lines = [f"Simulated pair (pole_a/pair_1) with the optics of real captures (SIMULATOR.md) "
-             f"and their robust decoding, reference board in {camera['reference_plane_poses']} poses, {exposures} exposures "
+             f"and their robust decoding, reference board in "
+             f"{camera['reference_plane_poses']} poses, {exposures} exposures "
              f"averaged per pattern; sphere accuracy E_s (thesis eq 3.31, Table 3.2 layout) of the "
              f"plane-per-stripe model against the pinhole-projector baseline. Plot: "
              f"`docs/calibration/projector_parameters.png`.", ""]

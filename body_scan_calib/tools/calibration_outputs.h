@@ -93,10 +93,9 @@ struct DecodingChoice {
 };
 
 // default_text: when the tool decodes robustly without --decoding.
-inline void addDecodingOption(CLI::App& app, DecodingChoice& choice,
-                              const std::string& default_text =
-                                  "robust except for --layout "
-                                  "project") {
+inline void addDecodingOption(
+    CLI::App& app, DecodingChoice& choice,
+    const std::string& default_text = "robust except for --layout project") {
   body_scan_driver::tools::addChoice<DecodingChoice::Kind>(
       app, "--decoding", choice.kind,
       {{"standard", DecodingChoice::Kind::kStandard}, {"robust", DecodingChoice::Kind::kRobust}},
