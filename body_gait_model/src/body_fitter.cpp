@@ -1186,6 +1186,27 @@ void finishFit(const Cloud& full_cloud, const FitOptions& options, DirectFit& di
   fit.quality.limits_reached = jointLimitsReached(fit.model, options.joint_limits);
 }
 
+// Whether the knee of one leg (0 right, 1 left) bends beyond kClearKneeBend in any of the walk's
+// direct fits. Only a bent knee shows where it lies along the leg: on a straight one the thigh's
+// and shank's cylinders fit the surface about as well with the knee anywhere along the line, and
+// a walk's refinement moved such knees by the legs' radius profiles, not by the bend: the mesh
+// people's straighter walks (knees bent at most 19 deg in the direct fits) had their knees
+// raised 25 mm, 13 mm with their thighs held; walks whose knees bend 40-60 deg (CMU) place them
+// better refined (knees 16-17 mm, 20-22 mm held).
+constexpr double kClearKneeBend = 20 * kPi / 180;  // beyond loading response's 15-20 deg
+bool kneeBentInWalk(const std::vector<BodyModel>& models, int side) {
+  const int thigh = side == 0 ? kRightUpperLeg : kLeftUpperLeg, shank = thigh + 1;
+  for (const BodyModel& model : models) {
+    const PosedModel posed = forwardKinematics(model);
+    const Eigen::Vector3d thigh_direction =
+        (posed.segments[thigh].distal - posed.segments[thigh].proximal).normalized();
+    const Eigen::Vector3d shank_direction =
+        (posed.segments[shank].distal - posed.segments[shank].proximal).normalized();
+    if (thigh_direction.dot(shank_direction) < std::cos(kClearKneeBend)) return true;
+  }
+  return false;
+}
+
 template <typename Values>
 double median(Values values) {
   std::sort(values.begin(), values.end());
@@ -1257,9 +1278,12 @@ WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options) {
       clouds.push_back(&directs[i].without_feet);
     }
     if (options.refine) {
-      // An unseen pelvis in any scan: the thighs keep the direct fit's lengths (pelvisSeen).
+      // An unseen pelvis in any scan: the thighs keep the direct fit's lengths (pelvisSeen). A leg
+      // whose knee bends clearly in no scan keeps its thigh's too (kneeBentInWalk).
       RefinementOptions refinement = options.refinement;
       for (size_t i : fitted) refinement.hold_thighs_in_walks |= !directs[i].pelvis_seen;
+      for (int side = 0; side < 2; ++side)
+        refinement.hold_thigh_in_walk[side] = !kneeBentInWalk(models, side);
       result.refinement = refineWalk(models, clouds, refinement, options.joint_limits);
       for (size_t k = 0; k < fitted.size(); ++k)
         aimLowerLegsAtAnkles(models[k], directs[fitted[k]], options.joint_limits);

@@ -31,11 +31,12 @@ bool isTerminal(int segment) {
 // on 10 subjects x 4 poses: segment-length error 4.6 -> 4.2 %, hips 33 -> 28 mm.
 // In a walk the thighs may change: a knee bent in one scan shows where it is in all.
 using HeldLengths = std::array<bool, kSegmentCount>;
-HeldLengths heldLengths(bool hold_thighs) {
+HeldLengths heldLengths(bool hold_right_thigh, bool hold_left_thigh) {
   HeldLengths held{};
   for (int segment = 0; segment < kSegmentCount; ++segment)
     held[segment] = isTerminal(segment) || segment == kLowerTorso ||
-                    (hold_thighs && (segment == kRightUpperLeg || segment == kLeftUpperLeg));
+                    (hold_right_thigh && segment == kRightUpperLeg) ||
+                    (hold_left_thigh && segment == kLeftUpperLeg);
   return held;
 }
 
@@ -192,7 +193,9 @@ RefinementReport refineWalk(std::vector<BodyModel>& models, const std::vector<co
   report.initial_rms = walkRms();
   // The lengths (and the shape) are the first model's: one body in every scan.
   const SegmentLengths initial_lengths = models.front().r;
-  const HeldLengths held = heldLengths(scans == 1 || options.hold_thighs_in_walks);
+  const bool hold_thighs = scans == 1 || options.hold_thighs_in_walks;
+  const HeldLengths held = heldLengths(hold_thighs || options.hold_thigh_in_walk[0],
+                                       hold_thighs || options.hold_thigh_in_walk[1]);
   for (int round = 0; round < options.rounds; ++round) {
     std::vector<std::vector<AssignedPoint>> assigned(scans);
     std::vector<std::array<double, 6>> p(scans);

@@ -6,6 +6,7 @@
 #include <body_gait_model/body_axes.h>
 #include <body_gait_model/kinematic_model.h>
 
+#include <array>
 #include <vector>
 
 namespace body_gait_model {
@@ -24,6 +25,9 @@ struct RefinementOptions {
   // anywhere along its line); in a walk they are refined unless this is set (fitWalk sets it
   // when a scan's pelvis is unseen: nothing there holds the hips).
   bool hold_thighs_in_walks = false;
+  // Per leg (right, left): that thigh's length held in a walk as well; fitWalk sets it for a leg
+  // whose knee bends clearly in none of the walk's scans (a straight knee fits anywhere).
+  std::array<bool, 2> hold_thigh_in_walk{};
 };
 
 struct RefinementReport {
