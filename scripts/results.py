@@ -446,9 +446,10 @@ def recognition_full_scanner(r, q):
                                            "3D dynamic+static+shape weighted single scans"})
     lines = [f"Cross-walk on the 12-pair scanner simulation with the product's recognition "
              f"settings (`recognition.launch`: body shape, median walk body, the full scanner's "
-             f"noise file, learned on 25 people of another seed, so these {subjects} people are "
-             f"new to it). Rows: per frame of the probe walk's cycle, per walk, and walk 1's four "
-             f"fits as single-scan probes (how `gait_id_node` identifies each scan of a walk; its "
+             f"noise file, learned on 25 ellipsoid-body people of another seed, so these "
+             f"{subjects} people are new to it). Rows: per frame of the probe walk's cycle, per "
+             f"walk, and walk 1's four fits as single-scan probes (how `gait_id_node` identifies "
+             f"each scan of a walk; its "
              f"EER threshold is what `accept_threshold` should be). {first_line(text)} Plot: "
              f"`docs/images/gait_id_cross_walk_full.png`.", ""]
     return [walks, scans], s1 + s2, lines + table(GAIT_HEADER, rows)
@@ -468,7 +469,8 @@ def recognition_full_scanner_mesh(r, q):
                 if "weighted per walk" in line and "FNIR" in line]
     lines = [f"Walk-level cross-walk of {subjects} simulated people with the mesh human's bodies "
              f"on the 12-pair scanner simulation, product settings (median walk body, the full "
-             f"scanner's noise file, learned on other people), one decision per walk; each "
+             f"scanner's noise file, learned on other people's ellipsoid bodies), one decision "
+             f"per walk; each "
              f"feature alone and combined, so that a reader sees how much is gait (dynamic: "
              f"joint angles) and how much body size (static: segment lengths; shape: radii, "
              f"widths, height). {first_line(text)}", ""]
