@@ -9,7 +9,7 @@
 //                    [--transform none|pca|lda] [--components K] [--rows all|3d]
 //                    [--probe-frames interpolated|all|scans] [--per-walk] [--gallery-walks N]
 //                    [--shape] [--decomposition] [--noise-seed S2 [--noise-subjects N2]
-//                    [--noise-first K]]
+//                    [--noise-first K] [--noise-body same|ellipsoid|mesh|both]]
 //                    [--walk-body mean|median]
 //                    [--write-noise FILE.yaml | --noise-file FILE.yaml] [--robust-sigmas C]
 //                    [--measure-noise]
@@ -36,14 +36,15 @@
 // (bodyShapeFeatures); --noise-seed S2 fits N2 (default 50) other people (seed S2, two walks) to
 // learn each feature component's within-subject noise (--noise-first K: persons K..K+N2-1 of
 // seed S2, so with S2 = S and K >= N the test seed's later people serve) and adds the
-// noise-weighted 3D rows (noiseWeights); --walk-body median takes each walk's body measures as the
-// median of its four fits instead of eq 5.13's mean; --write-noise saves the learned noise for
-// gait_id_node's ~feature_noise and gait_gallery's --feature-noise, --noise-file weighs by a saved
-// noise instead of learning it; --robust-sigmas C adds weighted rows whose distance counts each
-// component at most C noise SDs (robust to one failed component; brute force); --measure-noise
-// prints how steady each body measure is between a person's walks against its spread between
-// people. Thesis protocol: the probes are eta3's 16 interpolated frames per person as in the thesis
-// (96 poses of 6 subjects);
+// noise-weighted 3D rows (noiseWeights); --noise-body learns it on the ellipsoid or the mesh
+// people, or on both pooled (default: the evaluated body); --walk-body median takes each walk's
+// body measures as the median of its four fits instead of eq 5.13's mean; --write-noise saves the
+// learned noise for gait_id_node's ~feature_noise and gait_gallery's --feature-noise, --noise-file
+// weighs by a saved noise instead of learning it; --robust-sigmas C adds weighted rows whose
+// distance counts each component at most C noise SDs (robust to one failed component; brute force);
+// --measure-noise prints how steady each body measure is between a person's walks against its
+// spread between people. Thesis protocol: the probes are eta3's 16 interpolated frames per person
+// as in the thesis (96 poses of 6 subjects);
 // --probe-frames all adds the 4 representative frames, which are in the training sets too.
 // --probe-frames scans (cross-walk): the probes are walk 1's 4 fits as single scans, as
 // gait_id_node identifies each scan (with --fit scan each has its own body, as a person scanned
@@ -86,7 +87,9 @@ struct Settings {
   std::string bvh_map;
   std::uint32_t noise_seed = 0;  // 0: no noise-weighted rows
   int noise_subjects = 50;
-  int noise_first = 0;       // the development people are persons noise_first.. of the noise seed
+  int noise_first = 0;  // the development people are persons noise_first.. of the noise seed
+  // The bodies the noise is learned on (empty: the evaluated one; two: pooled).
+  std::vector<body_gait_model::eval::BodyKind> noise_bodies;
   double robust_sigmas = 0;  // > 0: also the weighted rows with the truncated distance
   bool crossWalk() const { return protocol == "cross-walk"; }
 };
@@ -160,6 +163,13 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& s) {
                  "the noise people are persons K.. of the noise seed")
       ->capture_default_str()
       ->check(tools::atLeast(0));
+  std::string noise_body = "same";
+  app.add_option("--noise-body", noise_body,
+                 "the simulated bodies the noise is learned on: same (the evaluated one), "
+                 "ellipsoid, mesh, or both (their pairs pooled)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"same", "ellipsoid", "mesh", "both"}))
+      ->needs(noise_seed);
   tools::addChoice(app, "--walk-body", s.median_body, {{"mean", false}, {"median", true}},
                    "a walk's body measures: eq 5.13's mean of its four fits, or their median");
   app.add_option("--write-noise", s.noise_path,
@@ -186,6 +196,10 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& s) {
       ->check(CLI::ExistingFile);
   if (const auto status = tools::parseCommandLine(app, argc, argv)) return status;
   s.scan.progress = !quiet;
+  using body_gait_model::eval::BodyKind;
+  if (noise_body == "ellipsoid" || noise_body == "both")
+    s.noise_bodies.push_back(BodyKind::kEllipsoid);
+  if (noise_body == "mesh" || noise_body == "both") s.noise_bodies.push_back(BodyKind::kMesh);
   return std::nullopt;
 }
 
@@ -247,7 +261,8 @@ void printLeftOutWalks(const FittedWalks& walks, const PersonSource& people) {
 
 // --noise-seed: the noise learned on development people (another seed: nobody of the test set)
 // with two walks each, saved with --write-noise. Persons 0 .. noise_first - 1 are fitted too
-// (their scans keep their index, so the cache serves them) and then left out.
+// (their scans keep their index, so the cache serves them) and then left out. --noise-body
+// both: the same people with either body, all their walk pairs pooled.
 TransformOptions learnedNoiseWeights(const Settings& s, bool single_scans) {
   const std::vector<body_gait_model::eval::SimulatedPerson> development =
       body_gait_model::eval::simulatedPeople(s.noise_first + s.noise_subjects, s.noise_seed);
@@ -256,8 +271,17 @@ TransformOptions learnedNoiseWeights(const Settings& s, bool single_scans) {
   dev.spec = [&development](int person, int pose, int trial, double heading) {
     return body_gait_model::eval::walkingSubject(development[person], pose, trial, heading);
   };
-  FittedWalks dev_walks = fitWalks(dev, 2, s.scan);
-  dev_walks.erase(dev_walks.begin(), dev_walks.begin() + s.noise_first);
+  std::vector<body_gait_model::eval::BodyKind> bodies = s.noise_bodies;
+  if (bodies.empty()) bodies.push_back(s.scan.body);
+  FittedWalks dev_walks;
+  std::string body_names;
+  for (const body_gait_model::eval::BodyKind body : bodies) {
+    ScanOptions scan = s.scan;
+    scan.body = body;
+    FittedWalks walks = fitWalks(dev, 2, scan);
+    dev_walks.insert(dev_walks.end(), walks.begin() + s.noise_first, walks.end());
+    body_names += (body_names.empty() ? "" : " and ") + body_gait_id::tools::bodyName(body);
+  }
   if (s.median_body)
     dev_walks = single_scans ? withMedianBody(std::move(dev_walks), 1)
                              : withMedianBody(std::move(dev_walks));
@@ -268,8 +292,9 @@ TransformOptions learnedNoiseWeights(const Settings& s, bool single_scans) {
     const std::string source =
         body_gait_id::tools::scannerName(s.scan.scanner) + " scanner, " +
         std::to_string(s.noise_subjects) + " people from " + std::to_string(s.noise_first) +
-        ", seed " + std::to_string(s.noise_seed) + ", " + (s.median_body ? "median" : "mean") +
-        " body of a walk" +
+        ", seed " + std::to_string(s.noise_seed) + ", " + body_names +
+        (bodies.size() > 1 ? " bodies pooled, " : " bodies, ") +
+        (s.median_body ? "median" : "mean") + " body of a walk" +
         (s.scan.fit == FitLevel::kWalk ? ", walks fitted together" : ", scans fitted alone") +
         (single_scans ? ", single-scan probes" : "");
     body_scan_driver::writeFileAtomically(s.noise_path,

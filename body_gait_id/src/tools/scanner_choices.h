@@ -32,4 +32,10 @@ inline std::string scannerName(eval::ScannerKind scanner) {
   return "?";
 }
 
+inline std::string bodyName(body_gait_model::eval::BodyKind body) {
+  for (const auto& [name, kind] : kBodyChoices)
+    if (kind == body) return name;
+  return "?";
+}
+
 }  // namespace body_gait_id::tools

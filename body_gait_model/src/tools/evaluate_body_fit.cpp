@@ -30,8 +30,9 @@
 // --fit walk fits each subject's or walk's 4 poses together (fitWalk: one body, a pose per
 // scan); --fit scan (default) each scan alone. --joint-limits thesis uses Table 5.2's bounds
 // instead of the walking ranges. The summary adds per-walk and per-pose lines, the
-// Procrustes-aligned joint error, the fits reaching a joint limit and the low-quality flag's
-// precision and recall for "mean joint error > 50 mm".
+// Procrustes-aligned joint error, the joint error with each joint's mean offset (learned on the
+// other people) removed, the fits reaching a joint limit and the low-quality flag's precision and
+// recall for "mean joint error > 50 mm".
 // --body mesh dresses every subject (and BVH walker) with the skinned mesh human
 // (body_scan_driver/sim/mesh_human.h: a person of the subject's stature, sex and build) instead of
 // the ellipsoids; the truth is the mesh's skeleton.
@@ -63,6 +64,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -368,10 +370,53 @@ struct Totals {
   static constexpr double kBadFit = 0.050;  // m: a fit this far off should be flagged
 };
 
+// One fit's joint offsets (fitted - true, in the true body frame) and whose body it was.
+struct FitOffsets {
+  std::string person;
+  std::map<std::string, Eigen::Vector3d> joint_offset;
+};
+
+// Joint errors once each joint's systematic offset is removed, the offset learned on the OTHER
+// people's fits (leave one person out). They separate how the fitter and the truth define a joint
+// (a constant per joint, e.g. a rig's hip deeper in the pelvis than the thigh's axis) from the
+// scatter of the fits. NaN with fewer than two people.
+struct OffsetRemovedErrors {
+  double mean = std::numeric_limits<double>::quiet_NaN();  // m, over fits and joints
+  std::map<std::string, double> per_joint;                 // m, over fits
+};
+
+OffsetRemovedErrors offsetRemovedErrors(const std::vector<FitOffsets>& fits) {
+  OffsetRemovedErrors errors;
+  std::map<std::string, double> sums;
+  double sum = 0;
+  int count = 0;
+  for (const FitOffsets& fit : fits) {
+    for (const auto& [name, offset] : fit.joint_offset) {
+      Eigen::Vector3d others = Eigen::Vector3d::Zero();
+      int others_count = 0;
+      for (const FitOffsets& other : fits)
+        if (other.person != fit.person) {
+          others += other.joint_offset.at(name);
+          ++others_count;
+        }
+      if (others_count == 0) return errors;
+      const double error = (offset - others / others_count).norm();
+      sums[name] += error;
+      sum += error;
+      ++count;
+    }
+  }
+  if (count == 0) return errors;
+  errors.mean = sum / count;
+  for (const auto& [name, joint_sum] : sums) errors.per_joint[name] = joint_sum / fits.size();
+  return errors;
+}
+
 // Every fit's totals, and per subject or walk and per pose.
 struct Summary {
   Totals all;
   std::map<std::string, Totals> by_walk, by_pose;
+  std::vector<FitOffsets> offsets;
 };
 
 // What the run writes besides stdout.
@@ -484,6 +529,7 @@ void reportFit(const Case& each, const body_gait_model::eval::SampledBody& body,
     for (const auto& [name, bias] : errors.segment_length_bias)
       std::printf("    %-15s %+6.1f %%\n", name.c_str(), 100 * bias);
   }
+  summary.offsets.push_back({each.person.empty() ? spec.name : each.person, errors.joint_offset});
   for (Totals* totals : {&summary.all, &summary.by_walk[walkOf(each)],
                          &summary.by_pose["pose " + std::to_string(pose)]})
     totals->add(errors, fit, fit_seconds, body.points.size());
@@ -536,17 +582,27 @@ void summarize(const Summary& summary, int subjects, const Settings& settings,
       "flag against mean joint error > 50 mm: precision %d/%d, recall %d/%d\n",
       1000 * totals.procrustes / cases, totals.reaching_limits, totals.flagged_bad, flagged,
       totals.flagged_bad, bad);
+  const OffsetRemovedErrors offset_removed = offsetRemovedErrors(summary.offsets);
+  std::printf(
+      "joint error with each joint's mean offset removed, learned on the other people: %.1f mm\n",
+      1000 * offset_removed.mean);
   for (const auto& [title, groups] : {std::pair{"per subject or walk", &summary.by_walk},
                                       std::pair{"per pose", &summary.by_pose}}) {
     std::printf("%s:\n", title);
     for (const auto& [name, group] : *groups)
       std::printf("  %-12s %s\n", name.c_str(), group.line().c_str());
   }
-  std::printf("%-16s %9s %28s\n", "joint", "error mm", "offset fwd/left/up mm");
+  std::printf("%-16s %9s %28s %16s\n", "joint", "error mm", "offset fwd/left/up mm",
+              "offset removed");
+  auto perJointOffsetRemoved = [&](const std::string& name) {
+    const auto found = offset_removed.per_joint.find(name);
+    return found == offset_removed.per_joint.end() ? std::numeric_limits<double>::quiet_NaN()
+                                                   : found->second;
+  };
   for (const auto& [name, stats] : totals.joint_stats)
-    std::printf("%-16s %9.1f %9.1f %8.1f %8.1f\n", name.c_str(), 1000 * stats.error / cases,
+    std::printf("%-16s %9.1f %9.1f %8.1f %8.1f %16.1f\n", name.c_str(), 1000 * stats.error / cases,
                 1000 * stats.offset.x() / cases, 1000 * stats.offset.y() / cases,
-                1000 * stats.offset.z() / cases);
+                1000 * stats.offset.z() / cases, 1000 * perJointOffsetRemoved(name));
   std::printf("%-16s %9s %9s\n", "segment", "|error| %", "signed %");
   for (const auto& [name, stats] : totals.segment_stats)
     std::printf("%-16s %9.1f %9.1f\n", name.c_str(), 100 * stats.first / cases,
@@ -579,6 +635,9 @@ void summarize(const Summary& summary, int subjects, const Settings& settings,
        << ", mean_points: " << totals.points / cases
        << ", mean_joint_error_m: " << totals.joint / cases
        << ", procrustes_joint_error_m: " << totals.procrustes / cases
+       << ", offset_removed_joint_error_m: "
+       << (std::isnan(offset_removed.mean) ? std::string(".nan")
+                                           : std::to_string(offset_removed.mean))
        << ", mean_length_error: " << totals.length / cases
        << ", mean_swing_error_rad: " << totals.swing / cases << ", heading_right: " << totals.right
        << ", low_quality: " << totals.low_quality << ", flag_precision: [" << totals.flagged_bad
