@@ -97,9 +97,9 @@ constexpr double kContactHeight = 0.015, kPlantedReach = 0.07;
 constexpr double kPlantedBeyondSole = 0.06;
 constexpr double kTipCap = 0.03;    // m: an arm's far-end points, before its reach
 constexpr double kCrownCap = 0.02;  // m: the head's top points whose centroid is the vertex
-// The head's highest point this far (m) below the stature the shoulders' top implies: the head is
-// cut off by the viewpoints' sight (a crown missing but for a few mm keeps its direction).
-constexpr double kHeadCutOff = 0.03;
+// A crown seen closes as a dome: the head's sections in its top kCrownCap stay below this part
+// of its largest (seen crowns: 0.01-0.32; heads cut off by the viewpoints' sight: 0.65-1.0).
+constexpr double kCrownDome = 0.5;
 constexpr double kMaxTipTurn = 30 * kPi / 180;  // the far end's direction from the lower line
 // Bend between the two lines (rad) below which the joint comes from the proportion alone, and
 // above which from the lines' meeting point alone.
@@ -683,11 +683,19 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
   // higher). Measured on the same subjects with dark hair: vertex -3 mm (8 mm RMS) instead of
   // -46 mm. The stature from it sets the hips' height.
   constexpr double kChinToVertex = 0.103;  // * stature
-  // A head cut off well below the crown by the highest viewpoints' sight (tall subjects under the
-  // full scanner's top pairs) keeps the trunk's direction: its visible band's centroid lies on
-  // the face, and the refinement turned a head started there toward the horizontal (mesh human
-  // of 1.95 m: vertex 270 mm forward, 80-120 mm with the trunk's direction).
-  const bool head_cut_off = !head_top_open && head_top - axes.lowest < axes.stature - kHeadCutOff;
+  // The crown is seen when the head closes as a dome below its highest point. The gap between
+  // that point and the stature the shoulders' top implies does not tell: on real proportions it
+  // is 0-56 mm with the crown seen (CMU walks on mesh bodies), 32 mm on a tall subject whose
+  // crown lies above the highest viewpoints' sight.
+  double top_area = 0;
+  for (const auto& section : head_sections)
+    if (section.height > head_top - kCrownCap) top_area = std::max(top_area, section.area);
+  const bool crown_domed = top_area < kCrownDome * head_area;
+  // A head cut off by the highest viewpoints' sight (tall subjects under the full scanner's top
+  // pairs) keeps the trunk's direction: its visible band's centroid lies on the face, and the
+  // refinement turned a head started there toward the horizontal (mesh human of 1.95 m: vertex
+  // 270 mm forward, 80-120 mm with the trunk's direction).
+  const bool head_cut_off = !head_top_open && !crown_domed;
   if (head_top_open)
     head_top = std::max(head_top, (chin - kChinToVertex * axes.lowest) / (1 - kChinToVertex));
   else if (head_count > 10 && !head_cut_off)
@@ -699,7 +707,7 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
 
   HeadFit fit{neck_area, chin, head_area, head_direction, stature};
   fit.hair_unseen = hair_unseen;
-  if (!head_top_open && head_top - axes.lowest >= axes.stature - 0.005) {
+  if (!head_top_open && crown_domed) {
     Eigen::Vector2d cap = Eigen::Vector2d::Zero();
     int count = 0;
     for (const auto& p : head_points)
@@ -1088,16 +1096,17 @@ struct HandTips {
 };
 
 // The distance from `segment`'s proximal joint to `target` when the segment points at it within
-// kMaxTipTurn and that distance is within max_length_change of its length; 0 otherwise.
+// max_turn and that distance is within max_length_change of its length; 0 otherwise.
 double agreeingReach(const BodyModel& model, const PosedModel& posed, int segment,
-                     const Eigen::Vector3d& target, double max_length_change) {
+                     const Eigen::Vector3d& target, double max_length_change,
+                     double max_turn = kMaxTipTurn) {
   const PosedSegment& posed_segment = posed.segments[segment];
   const Eigen::Vector3d to_target = target - posed_segment.proximal;
   const double length = to_target.norm();
   const bool agrees =
       length > 1e-3 && model.r[segment] > 0 &&
       to_target.normalized().dot((posed_segment.distal - posed_segment.proximal).normalized()) >
-          std::cos(kMaxTipTurn) &&
+          std::cos(max_turn) &&
       std::abs(length / model.r[segment] - 1) < max_length_change;
   return agrees ? length : 0;
 }
@@ -1158,12 +1167,17 @@ void aimLowerArmsAtHandTips(BodyModel& model, const DirectFit& direct, const Han
 }
 
 // The refinement turns the head to the surface of its points, face and hair, whose axis runs
-// behind the vertex (simulated and CMU walks: head top 15-18 mm behind): the head is aimed from
-// its refined base at the vertex the direct fit found, under the same agreement test as the hands.
+// behind the vertex (simulated and CMU walks: head top 15-18 mm behind; a mesh person of CMU
+// walk 35: the head pitched 30-50 deg forward of its vertex): the head is aimed from its refined
+// base at the vertex the direct fit found when that distance agrees with the head's length. A
+// vertex is the seen crown's top, not a far end that a failed direct fit can misplace as a
+// hand's, so the turn is bounded by kMaxCrownTurn only (a vertex behind or below the base).
 // Returns the base-to-vertex distance, 0 when no vertex was found or it disagrees.
+constexpr double kMaxCrownTurn = kPi / 2;
 double headBaseToCrown(const BodyModel& model, const DirectFit& direct, double max_length_change) {
   if (!direct.crown_known) return 0;
-  return agreeingReach(model, forwardKinematics(model), kHead, direct.crown, max_length_change);
+  return agreeingReach(model, forwardKinematics(model), kHead, direct.crown, max_length_change,
+                       kMaxCrownTurn);
 }
 
 // Aims the head at the vertex when `found`; `length` > 0 becomes the head's length.

@@ -101,7 +101,7 @@ const JointLimitSet& walkingJointLimits() {
     table[kUpperTorso] = table[kHead] = table[kLowerTorso] = degrees(-90, 90, -90, 90);
     table[kNeck] = degrees(0, 0, 0, 0);
     table[kRightUpperArm] = table[kLeftUpperArm] = degrees(-50, 50, -20, 20);
-    table[kRightLowerArm] = table[kLeftLowerArm] = degrees(-90, 10, -15, 15);
+    table[kRightLowerArm] = table[kLeftLowerArm] = degrees(-90, 10, -30, 30);
     table[kRightUpperLeg] = table[kLeftUpperLeg] = degrees(-50, 35, -15, 15);
     table[kRightLowerLeg] = table[kLeftLowerLeg] = degrees(-10, 80, -10, 10);
     return table;
