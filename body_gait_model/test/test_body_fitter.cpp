@@ -194,8 +194,8 @@ struct MeshSamplerFit {
 };
 
 // Simulated subject k of 10 in gait pose `pose` as the mesh human, sampled as evaluate_body_fit's
-// sampler does (its heading, 300 columns, 2 mm noise), fitted and compared with the truth.
-MeshSamplerFit fitMeshSamplerCase(int k, int pose) {
+// sampler does (its heading, 300 columns, 2 mm noise).
+eval::SampledBody sampleMeshCase(int k, int pose) {
   eval::ScanRig rig;
   rig.columns = 300;
   rig.rows = 243;
@@ -203,7 +203,12 @@ MeshSamplerFit fitMeshSamplerCase(int k, int pose) {
   rig.body = eval::BodyKind::kMesh;
   auto spec = eval::simulatedSubjects(10)[k];
   spec.pose = eval::gaitPose(pose, 0.3 + 1.7 * (pose + 4 * k + pose - 1));
-  const auto body = eval::sampleBody(spec, rig);
+  return eval::sampleBody(spec, rig);
+}
+
+// That case fitted alone and compared with the truth.
+MeshSamplerFit fitMeshSamplerCase(int k, int pose) {
+  const auto body = sampleMeshCase(k, pose);
   MeshSamplerFit result{fitBody(body.points), {}};
   result.errors = eval::compareWithTruth(result.fit.model, body);
   return result;
@@ -270,14 +275,7 @@ TEST(BodyFitter, MeshHumanWalkKeepsStraightKneesWhereTheDirectFitPutThem) {
     std::vector<eval::SampledBody> bodies;
     std::vector<Cloud> walk;
     for (int pose = 1; pose <= 4; ++pose) {
-      eval::ScanRig rig;
-      rig.columns = 300;
-      rig.rows = 243;
-      rig.noise_sigma = 0.002;
-      rig.body = eval::BodyKind::kMesh;
-      auto spec = eval::simulatedSubjects(10)[k];
-      spec.pose = eval::gaitPose(pose, 0.3 + 1.7 * (pose + 4 * k + pose - 1));
-      bodies.push_back(eval::sampleBody(spec, rig));
+      bodies.push_back(sampleMeshCase(k, pose));
       walk.push_back(bodies.back().points);
     }
     const WalkFit fits = fitWalk(walk);
