@@ -265,6 +265,17 @@ TEST(BodyFitter, MeshHumanSolesFollowTheShankAboveTheAnkle) {
   EXPECT_LE(sole, 0.035);  // 19.5 mm; 62.3 mm along the shank's surface axis
 }
 
+TEST(BodyFitter, MeshHumanElbowsOnSlightlyBentArmsFollowTheProportion) {
+  // Two lines meet at a slightly bent elbow far along the arm when one lies off its bone (a
+  // muscle's bulge): the meeting point moves by the offset / sin(bend). Mean elbow error over two
+  // people's 4 poses at evaluate_body_fit's headings (the sampler).
+  const double elbow = meanOverMeshPoses({4, 6}, [](const eval::FitErrors& errors) {
+    return (errors.joint_error.at("left_elbow") + errors.joint_error.at("right_elbow")) / 2;
+  });
+  std::printf("[ figure ] mesh human: elbows %.1f mm off\n", 1000 * elbow);
+  EXPECT_LE(elbow, 0.026);  // 21.2 mm; 31.7 mm with the meeting point trusted from 14 deg on
+}
+
 TEST(BodyFitter, MeshHumanWalkKeepsStraightKneesWhereTheDirectFitPutThem) {
   // A straight knee fits the cylinders' surface anywhere along the leg: a walk's refinement moved
   // the thighs' lengths by the legs' radius profiles and raised the mesh people's knees (their 4
