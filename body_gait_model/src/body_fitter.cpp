@@ -104,10 +104,10 @@ constexpr double kMaxTipTurn = 30 * kPi / 180;  // the far end's direction from 
 // Bend between the two lines (rad) below which the joint comes from the proportion alone, and
 // above which from the lines' meeting point alone. A line off the bone's axis by d (a muscle's
 // bulge, a side the scanner sees less of) moves the meeting point along the other line by
-// d / sin(bend): 3-4 d at a walking arm's 15-20 deg. Trusting it from 14 deg on, the direct fits'
-// elbows scattered 42-49 mm about their mean offset, 29-41 mm by the proportion (mesh people on
-// the CMU walks and simulated walks, evaluate_body_fit --direct --per-joint).
-constexpr double kStraightBend = 20 * kPi / 180, kClearBend = 60 * kPi / 180;
+// d / sin(bend): 3-4 d at a walking arm's 15-20 deg. Trusted alone from 14 deg on, the direct
+// fits' elbows scattered 42-49 mm about their mean offset, 29-41 mm by the proportion (mesh
+// people on the CMU walks and simulated walks, evaluate_body_fit --direct --per-joint).
+constexpr double kStraightBend = 10 * kPi / 180, kClearBend = 30 * kPi / 180;
 
 // Midpoint of the closest approach of two lines; false if they are (nearly) parallel.
 bool closestApproach(const Line& a, const Line& b, Eigen::Vector3d* midpoint) {
