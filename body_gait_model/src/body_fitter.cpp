@@ -1301,7 +1301,7 @@ WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options) {
       RefinementOptions refinement = options.refinement;
       for (size_t i : fitted) refinement.hold_thighs_in_walks |= !directs[i].pelvis_seen;
       for (int side = 0; side < 2; ++side)
-        refinement.hold_thigh_in_walk[side] = !kneeBentInWalk(models, side);
+        refinement.straight_knee[side] = !kneeBentInWalk(models, side);
       result.refinement = refineWalk(models, clouds, refinement, options.joint_limits);
       for (size_t k = 0; k < fitted.size(); ++k)
         aimLowerLegsAtAnkles(models[k], directs[fitted[k]], options.joint_limits);

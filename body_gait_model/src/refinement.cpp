@@ -194,8 +194,8 @@ RefinementReport refineWalk(std::vector<BodyModel>& models, const std::vector<co
   // The lengths (and the shape) are the first model's: one body in every scan.
   const SegmentLengths initial_lengths = models.front().r;
   const bool hold_thighs = scans == 1 || options.hold_thighs_in_walks;
-  const HeldLengths held = heldLengths(hold_thighs || options.hold_thigh_in_walk[0],
-                                       hold_thighs || options.hold_thigh_in_walk[1]);
+  const HeldLengths held =
+      heldLengths(hold_thighs || options.straight_knee[0], hold_thighs || options.straight_knee[1]);
   for (int round = 0; round < options.rounds; ++round) {
     std::vector<std::vector<AssignedPoint>> assigned(scans);
     std::vector<std::array<double, 6>> p(scans);

@@ -25,9 +25,9 @@ struct RefinementOptions {
   // anywhere along its line); in a walk they are refined unless this is set (fitWalk sets it
   // when a scan's pelvis is unseen: nothing there holds the hips).
   bool hold_thighs_in_walks = false;
-  // Per leg (right, left): that thigh's length held in a walk as well; fitWalk sets it for a leg
-  // whose knee bends clearly in none of the walk's scans (a straight knee fits anywhere).
-  std::array<bool, 2> hold_thigh_in_walk{};
+  // Per leg (right, left): no scan of the walk bends this knee clearly (fitWalk finds it), so
+  // its thigh's length is held too: a straight knee fits the surface anywhere along the leg.
+  std::array<bool, 2> straight_knee{};
 };
 
 struct RefinementReport {
