@@ -142,5 +142,29 @@ TEST(NoiseWeighting, RobustDistanceSurvivesAFailedComponent) {
   EXPECT_GE(rank1(robust_results), 99);
 }
 
+TEST(NoiseWeighting, FeatureScatterNamesTheComponentsTheWalksDisagreeOn) {
+  const FittedWalks walks = noisyWalks(20, 1);
+  const FeatureNoise reference = crossWalkNoise(noisyWalks(30, 3));
+  const std::vector<FeatureScatter> rows = featureScatter(walks, &reference);
+  ASSERT_EQ(rows.size(), std::size_t(22 + 12 + kShapeSize));
+  const auto row = [&rows](const std::string& name) {
+    for (const FeatureScatter& r : rows)
+      if (r.name == name) return r;
+    throw std::invalid_argument("no feature " + name);
+  };
+  // The noise put in: 10 % / 2 of a ~0.32 m upper arm (a walk's body = mean of 4 poses); the
+  // neck's 12 % against the upper torso's 1.6 % of lengths that differ as much between people.
+  EXPECT_NEAR(row("r right_upper_arm").within_sd, 0.10 * 0.32 / 2, 0.005);
+  EXPECT_DOUBLE_EQ(row("r right_upper_arm").reference_sd,
+                   reference.statics[body_gait_model::kRightUpperArm]);
+  const auto ratio = [&row](const std::string& name) {
+    return row(name).within_sd / row(name).between_sd;
+  };
+  std::printf("within / between: neck %.2f, upper torso %.2f, right thigh theta_x %.2f\n",
+              ratio("r neck"), ratio("r upper_torso"), ratio("right_upper_leg x"));
+  EXPECT_GT(ratio("r neck"), 3 * ratio("r upper_torso"));
+  EXPECT_GT(row("right_upper_leg x").within_sd, 0.5 * 2.0 * M_PI / 180);  // 2 deg put in per pose
+}
+
 }  // namespace
 }  // namespace body_gait_id::eval

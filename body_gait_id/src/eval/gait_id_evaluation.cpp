@@ -19,6 +19,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -706,6 +707,84 @@ FittedWalks withMedianBody(FittedWalks walks, int trials) {
     for (int t = 0; t < std::min<int>(trials, static_cast<int>(person.size())); ++t)
       if (person[t]) person[t] = body_gait_id::withMedianBody(*person[t]);
   return walks;
+}
+
+std::vector<std::string> featureNames3D() {
+  using namespace body_gait_model;
+  std::vector<std::string> names;
+  for (int s = 0; s < kSegmentCount; ++s)
+    if (jointAngleIndex(s) >= 0) {
+      names.push_back(std::string(segmentInfo(s).name) + " x");
+      names.push_back(std::string(segmentInfo(s).name) + " z");
+    }
+  for (int s = 0; s < kSegmentCount; ++s) names.push_back(std::string("r ") + segmentInfo(s).name);
+  names.insert(names.end(), {"height", "shoulder_half_width", "hip_half_width", "rp upper_torso",
+                             "rd upper_torso", "rd lower_torso", "radius neck", "radius head"});
+  for (int s : {kRightUpperArm, kRightLowerArm, kLeftUpperArm, kLeftLowerArm, kRightUpperLeg,
+                kRightLowerLeg, kLeftUpperLeg, kLeftLowerLeg}) {
+    names.push_back(std::string("rp ") + segmentInfo(s).name);
+    names.push_back(std::string("rd ") + segmentInfo(s).name);
+  }
+  return names;
+}
+
+namespace {
+
+Eigen::VectorXd stacked(const GaitFeatures& f) {
+  Eigen::VectorXd v(f.dynamic.size() + f.statics.size() + f.shape.size());
+  v << f.dynamic, f.statics, f.shape;
+  return v;
+}
+
+}  // namespace
+
+std::vector<FeatureScatter> featureScatter(const FittedWalks& walks, const FeatureNoise* reference,
+                                           int trial_a, int trial_b) {
+  const FeatureNoise noise = crossWalkNoise(walks, View::k3D, trial_a, trial_b);
+  const std::vector<std::string> names = featureNames3D();
+  // Per eta3 frame: sum and sum of squares over the people of walk a.
+  std::vector<Eigen::VectorXd> sum(body_gait_model::kGaitCycleFrames),
+      sum_sq(body_gait_model::kGaitCycleFrames);
+  int people = 0;
+  for (const auto& person : walks) {
+    const std::optional<WalkCycles> a = cyclesOf(person.at(trial_a));
+    if (!a) continue;
+    ++people;
+    for (std::size_t f = 0; f < a->eta3.frames.size(); ++f) {
+      const Eigen::VectorXd v = stacked(gaitFeatures(a->eta3.frames[f]));
+      sum[f] = sum[f].size() ? Eigen::VectorXd(sum[f] + v) : v;
+      sum_sq[f] = sum_sq[f].size() ? Eigen::VectorXd(sum_sq[f] + v.cwiseAbs2())
+                                   : Eigen::VectorXd(v.cwiseAbs2());
+    }
+  }
+  Eigen::VectorXd between = Eigen::VectorXd::Zero(static_cast<int>(names.size()));
+  for (std::size_t f = 0; f < sum.size(); ++f)
+    between += ((sum_sq[f] - sum[f].cwiseAbs2() / people) / (people - 1)).cwiseMax(0.0);
+  between = (between / static_cast<double>(sum.size())).cwiseSqrt();
+  const Eigen::VectorXd within = stacked({noise.dynamic, noise.statics, noise.shape});
+  Eigen::VectorXd ref = Eigen::VectorXd::Zero(within.size());
+  if (reference) ref = stacked({reference->dynamic, reference->statics, reference->shape});
+  std::vector<FeatureScatter> result;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    result.push_back({names[i], between[i], within[i], ref[i]});
+  return result;
+}
+
+std::string walkFeaturesCsv(const FittedWalks& walks) {
+  std::ostringstream out;
+  out << "person,walk,pose";
+  for (const std::string& name : featureNames3D()) out << ',' << name;
+  out << '\n';
+  for (std::size_t p = 0; p < walks.size(); ++p)
+    for (std::size_t t = 0; t < walks[p].size(); ++t)
+      if (walks[p][t])
+        for (int k = 0; k < 4; ++k) {
+          out << p << ',' << t << ',' << k + 1;
+          const Eigen::VectorXd v = stacked(gaitFeatures((*walks[p][t])[k]));
+          for (int i = 0; i < v.size(); ++i) out << ',' << v[i];
+          out << '\n';
+        }
+  return out.str();
 }
 
 }  // namespace body_gait_id::eval

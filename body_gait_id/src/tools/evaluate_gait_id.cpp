@@ -12,7 +12,7 @@
 //                    [--noise-first K] [--noise-body same|ellipsoid|mesh|both]]
 //                    [--walk-body mean|median]
 //                    [--write-noise FILE.yaml | --noise-file FILE.yaml] [--robust-sigmas C]
-//                    [--measure-noise]
+//                    [--measure-noise] [--feature-scatter] [--write-features FILE.csv]
 //                    [--report FILE.yaml] [--plot FILE.png] [--quiet]
 //                    [--bvh [PERSON=]WALK.bvh,... [--bvh-map MAP.yaml]]
 //
@@ -43,8 +43,11 @@
 // weighs by a saved noise instead of learning it; --robust-sigmas C adds weighted rows whose
 // distance counts each component at most C noise SDs (robust to one failed component; brute force);
 // --measure-noise prints how steady each body measure is between a person's walks against its
-// spread between people. Thesis protocol: the probes are eta3's 16 interpolated frames per person
-// as in the thesis (96 poses of 6 subjects);
+// spread between people; --feature-scatter prints every component of the 3D recognition vector
+// (q, r, shape) with its SD between people and within a person between walks (and the
+// --noise-file's SD), the most scattered relative to people's spread first; --write-features
+// writes every fitted pose's features as CSV. Thesis protocol: the probes are eta3's 16
+// interpolated frames per person as in the thesis (96 poses of 6 subjects);
 // --probe-frames all adds the 4 representative frames, which are in the training sets too.
 // --probe-frames scans (cross-walk): the probes are walk 1's 4 fits as single scans, as
 // gait_id_node identifies each scan (with --fit scan each has its own body, as a person scanned
@@ -58,6 +61,7 @@
 #include <body_scan_driver/tools/command_line.h>
 #include <body_scan_driver/tools/package_file.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -80,6 +84,8 @@ struct Settings {
   ScanOptions scan;
   TransformOptions transform;
   ProbeFrames probe_frames = ProbeFrames::kInterpolated;
+  bool feature_scatter = false;
+  std::string features_path;
   bool per_walk = false, measure_noise = false, shape = false, median_body = false,
        decomposition = false;
   int gallery_walks = 1;
@@ -182,6 +188,11 @@ std::optional<int> parseSettings(int argc, char** argv, Settings& s) {
       ->check(tools::atLeast(0));
   app.add_flag("--measure-noise", s.measure_noise,
                "cross-walk: print how steady each body measure is between a person's walks");
+  app.add_flag(
+      "--feature-scatter", s.feature_scatter,
+      "cross-walk: print each feature's SD within a person's walks against between people");
+  app.add_option("--write-features", s.features_path,
+                 "write every fitted pose's 3D features as CSV (person, walk, pose, features)");
   app.add_option("--report", s.report_path, "YAML report");
   app.add_option("--plot", s.plot_path, "CMC / ROC plot (PNG)");
   bool quiet = false;
@@ -312,6 +323,25 @@ void printMeasureNoise(const FittedWalks& walks) {
                 m.within_sd, m.within_sd > 0 ? std::pow(m.between_sd / m.within_sd, 2) : 0.0);
 }
 
+// --feature-scatter: the components whose walk-to-walk scatter is largest against people's spread.
+void printFeatureScatter(const Settings& s, const FittedWalks& walks) {
+  std::optional<body_gait_id::FeatureNoise> reference;
+  if (!s.noise_file.empty()) reference = body_gait_id::readFeatureNoise(s.noise_file);
+  std::vector<FeatureScatter> rows = featureScatter(walks, reference ? &*reference : nullptr);
+  auto ratio = [](const FeatureScatter& r) {
+    return r.between_sd > 0 ? r.within_sd / r.between_sd : 0.0;
+  };
+  std::stable_sort(rows.begin(), rows.end(), [&](const FeatureScatter& a, const FeatureScatter& b) {
+    return ratio(a) > ratio(b);
+  });
+  std::printf("%-24s %10s %10s %8s %10s %8s\n", "feature (rad, m)", "between", "within", "w/b",
+              "noise file", "w/file");
+  for (const FeatureScatter& r : rows)
+    std::printf("%-24s %10.5f %10.5f %8.3f %10.5f %8.2f\n", r.name.c_str(), r.between_sd,
+                r.within_sd, ratio(r), r.reference_sd,
+                r.reference_sd > 0 ? r.within_sd / r.reference_sd : 0.0);
+}
+
 // Scans and fits the people and runs the protocol: the thesis's rows, then the transformed,
 // robust, noise-weighted and per-walk 3D rows asked for.
 std::vector<NamedMetrics> evaluate(const Settings& s, const PersonSource& people, int trials,
@@ -327,6 +357,8 @@ std::vector<NamedMetrics> evaluate(const Settings& s, const PersonSource& people
   if (s.decomposition) rows = rows_3d = decompositionRows();
   FittedWalks walks = fitWalks(people, trials, s.scan, &summary);
   printLeftOutWalks(walks, people);
+  if (!s.features_path.empty())
+    body_scan_driver::writeFileAtomically(s.features_path, walkFeaturesCsv(walks));
   // Single-scan probes keep their fits' bodies; the gallery walks take the median.
   const bool single_scans = s.probe_frames == ProbeFrames::kSingleScans;
   const ProbeFrames cross_probes = single_scans ? ProbeFrames::kSingleScans : ProbeFrames::kAll;
@@ -336,6 +368,7 @@ std::vector<NamedMetrics> evaluate(const Settings& s, const PersonSource& people
   TransformOptions weighted;
   if (s.noise_seed != 0) weighted = learnedNoiseWeights(s, single_scans);
   if (s.measure_noise && cross_walk) printMeasureNoise(walks);
+  if (s.feature_scatter && cross_walk) printFeatureScatter(s, walks);
   auto protocol = [&](const std::vector<FeatureRow>& which, const TransformOptions& transform,
                       bool per_walk) {
     return cross_walk

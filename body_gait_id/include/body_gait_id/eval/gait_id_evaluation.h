@@ -184,4 +184,24 @@ FittedWalks withMedianBody(FittedWalks walks, int trials = 1 << 30);
 std::vector<MeasureNoise> bodyMeasureNoise(const FittedWalks& walks, int trial_a = 0,
                                            int trial_b = 1);
 
+// Names of the 3D feature components in the order of gaitFeatures' blocks: q ("<segment> x",
+// "<segment> z"), r ("r <segment>"), bodyShapeFeatures ("height", "shoulder_half_width", ...).
+std::vector<std::string> featureNames3D();
+
+// Which components of the recognition vector a person's walks disagree on: per 3D component,
+// the SD between people (over the people of walk trial_a's eta3 frame, RMS over the 20 frames)
+// and the within-person SD between walks (crossWalkNoise). `reference` (optional) is a noise
+// the weights were learned on: its SD per component, so that within / reference says how much
+// larger a genuine walk's difference is in the weighted distance than the weights expect.
+struct FeatureScatter {
+  std::string name;
+  double between_sd = 0, within_sd = 0, reference_sd = 0;
+};
+std::vector<FeatureScatter> featureScatter(const FittedWalks& walks,
+                                           const FeatureNoise* reference = nullptr, int trial_a = 0,
+                                           int trial_b = 1);
+// Every fitted pose's 3D features as CSV (person, walk, pose, then featureNames3D's columns; a
+// failed walk has no rows): the raw material of featureScatter for a closer look.
+std::string walkFeaturesCsv(const FittedWalks& walks);
+
 }  // namespace body_gait_id::eval
