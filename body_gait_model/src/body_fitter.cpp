@@ -672,8 +672,7 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
   // two from scan to scan: their chin moved 10-90 mm, neck and head lengths 12 mm SD between two
   // walks of one person, 7 and 6 mm when both take their own sections).
   const bool hair_unseen = open_about_axis && own_filled < own_sections * sectors * 3 / 4;
-  const bool head_top_open = hair_unseen;
-  const NeckAndChin found = head_top_open ? about_axis : neckAndChin(head_sections);
+  const NeckAndChin found = hair_unseen ? about_axis : neckAndChin(head_sections);
   const double neck_area = found.neck_area, chin = found.chin, head_area = found.head_area;
   Eigen::Vector3d head_centroid = Eigen::Vector3d::Zero();
   int head_count = 0;
@@ -704,8 +703,8 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
   // pairs) keeps the trunk's direction: its visible band's centroid lies on the face, and the
   // refinement turned a head started there toward the horizontal (mesh human of 1.95 m: vertex
   // 270 mm forward, 80-120 mm with the trunk's direction).
-  const bool head_cut_off = !head_top_open && !crown_domed;
-  if (head_top_open)
+  const bool head_cut_off = !hair_unseen && !crown_domed;
+  if (hair_unseen)
     head_top = std::max(head_top, (chin - kChinToVertex * axes.lowest) / (1 - kChinToVertex));
   else if (head_count > 10 && !head_cut_off)
     head_direction = (head_centroid / head_count - chin_centre).normalized();
@@ -716,7 +715,7 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
 
   HeadFit fit{neck_area, chin, head_area, head_direction, stature};
   fit.hair_unseen = hair_unseen;
-  if (!head_top_open && crown_domed) {
+  if (!hair_unseen && crown_domed) {
     Eigen::Vector2d cap = Eigen::Vector2d::Zero();
     int count = 0;
     for (const auto& p : head_points)
