@@ -5,6 +5,7 @@
 #include <body_gait_model/eval/body_cloud_sampler.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -299,6 +300,23 @@ TEST(BodyFitter, MeshHumanWalkKeepsStraightKneesWhereTheDirectFitPutThem) {
   }
   std::printf("[ figure ] mesh human walks: knees %.1f mm off vertically\n", 1000 * vertical);
   EXPECT_LE(vertical, 0.018);  // 12.9 mm; 26.4 mm with every walk's thighs refined
+}
+
+TEST(BodyFitter, MeshHumanWalkKeepsTheWholeBodysTiltOfTheDirectFit) {
+  // Every segment hangs from the two torsos, whose joints turn about the whole body's X and Z
+  // axes: a tilted whole body with counter-tilted torsos has the same surface. A walk's
+  // refinement left free drifted along that valley (the torsos' theta_z up to 1.5 rad, truth 0).
+  // Largest |theta_z| of the upper torso over two people's walks (the sampler, fitWalk).
+  double largest = 0;
+  for (int k : {0, 4}) {
+    std::vector<Cloud> walk;
+    for (int pose = 1; pose <= 4; ++pose) walk.push_back(sampleMeshCase(k, pose).points);
+    const WalkFit fits = fitWalk(walk);
+    for (const BodyFit& fit : fits.scans)
+      largest = std::max(largest, std::abs(fit.model.thetaZ(kUpperTorso)));
+  }
+  std::printf("[ figure ] mesh human walks: upper torso theta_z up to %.3f rad\n", largest);
+  EXPECT_LE(largest, 0.1);
 }
 
 }  // namespace
