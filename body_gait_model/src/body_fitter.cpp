@@ -656,8 +656,8 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
       ++upper_head_sections;
       upper_head_filled += section.filled_sectors;
     }
-  const bool head_top_open = about_axis.chin_found && upper_head_sections > 0 &&
-                             upper_head_filled < upper_head_sections * sectors / 2;
+  const bool open_about_axis = about_axis.chin_found && upper_head_sections > 0 &&
+                               upper_head_filled < upper_head_sections * sectors / 2;
   // Unseen hair leaves the upper head open about its own centroid too (the face's half shell: 21-25
   // of 36 sectors on 10 subjects x 4 poses with dark hair); a head held forward of the trunk's
   // axis is open about the axis only (35-36 sectors about its own centroid).
@@ -667,7 +667,12 @@ HeadFit fitHead(const std::vector<Eigen::Vector3d>& model_points, const std::vec
       ++own_sections;
       own_filled += section.filled_sectors;
     }
-  const bool hair_unseen = head_top_open && own_filled < own_sections * sectors * 3 / 4;
+  // Only a head open about both is unseen on top: one open about the axis only is seen whole
+  // and takes its own sections, like a head over the axis (the mesh people switched between the
+  // two from scan to scan: their chin moved 10-90 mm, neck and head lengths 12 mm SD between two
+  // walks of one person, 7 and 6 mm when both take their own sections).
+  const bool hair_unseen = open_about_axis && own_filled < own_sections * sectors * 3 / 4;
+  const bool head_top_open = hair_unseen;
   const NeckAndChin found = head_top_open ? about_axis : neckAndChin(head_sections);
   const double neck_area = found.neck_area, chin = found.chin, head_area = found.head_area;
   Eigen::Vector3d head_centroid = Eigen::Vector3d::Zero();
