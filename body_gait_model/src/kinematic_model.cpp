@@ -98,7 +98,8 @@ const JointLimitSet& walkingJointLimits() {
       return JointLimits{k * x_min, k * x_max, k * z_min, k * z_max};
     };
     JointLimitSet table;
-    table[kUpperTorso] = table[kHead] = table[kLowerTorso] = degrees(-90, 90, -90, 90);
+    table[kUpperTorso] = table[kHead] = degrees(-90, 90, -90, 90);
+    table[kLowerTorso] = degrees(-90, 90, 0, 0);  // level across: see config/body_fitter.yaml
     table[kNeck] = degrees(0, 0, 0, 0);
     table[kRightUpperArm] = table[kLeftUpperArm] = degrees(-50, 50, -20, 20);
     table[kRightLowerArm] = table[kLeftLowerArm] = degrees(-90, 10, -30, 30);
@@ -296,6 +297,7 @@ std::vector<std::string> jointLimitsReached(const BodyModel& model, const JointL
     for (const auto& [axis, angle, low, high] :
          {std::tuple{"theta_x", model.thetaX(segment), limits.x_min, limits.x_max},
           std::tuple{"theta_z", model.thetaZ(segment), limits.z_min, limits.z_max}}) {
+      if (low == high) continue;  // a fixed axis is no limit reached
       for (const auto& [bound, name] : {std::pair{low, "min"}, std::pair{high, "max"}})
         if (std::abs(angle - bound) <= tolerance)
           reached.push_back(std::string(segmentInfo(segment).name) + " " + axis + " at its " +

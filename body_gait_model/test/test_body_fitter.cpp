@@ -6,6 +6,7 @@
 #include <body_gait_model/eval/gait_subjects.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -300,6 +301,45 @@ TEST(BodyFitter, MeshHumanWalkKeepsStraightKneesWhereTheDirectFitPutThem) {
   }
   std::printf("[ figure ] mesh human walks: knees %.1f mm off vertically\n", 1000 * vertical);
   EXPECT_LE(vertical, 0.018);  // 12.9 mm; 26.4 mm with every walk's thighs refined
+}
+
+TEST(BodyFitter, MeshHumanWalkKeepsTheWholeBodysTiltOfTheDirectFit) {
+  // Every segment hangs from the two torsos, whose joints turn about the whole body's X and Z
+  // axes: a tilted whole body with counter-tilted torsos has the same surface. A walk's
+  // refinement left free drifted along that valley (the torsos' theta_z up to 1.5 rad, truth 0).
+  // Largest |theta_z| of the upper torso over two people's walks (the sampler, fitWalk).
+  double largest = 0;
+  for (int k : {0, 4}) {
+    std::vector<Cloud> walk;
+    for (int pose = 1; pose <= 4; ++pose) walk.push_back(sampleMeshCase(k, pose).points);
+    const WalkFit fits = fitWalk(walk);
+    for (const BodyFit& fit : fits.scans)
+      largest = std::max(largest, std::abs(fit.model.thetaZ(kUpperTorso)));
+  }
+  std::printf("[ figure ] mesh human walks: upper torso theta_z up to %.3f rad\n", largest);
+  EXPECT_LE(largest, 0.1);
+}
+
+TEST(BodyFitter, MeshHumanWalkThighsSidewaysAngleIsTheLegsNotThePelvisTilt) {
+  // Both thighs hang from the lower torso, a short wide cylinder whose sideways tilt its surface
+  // barely fixes: any error of that tilt turned both thighs' theta_z the other way. The walking
+  // joint limits hold the lower torso level across. RMS theta_z of both thighs over two people's
+  // walks (the sampler, fitWalk); the simulated people walk with their thighs within a few
+  // degrees of their pelvis's vertical.
+  double sum = 0;
+  int count = 0;
+  for (int k : {0, 4}) {
+    std::vector<Cloud> walk;
+    for (int pose = 1; pose <= 4; ++pose) walk.push_back(sampleMeshCase(k, pose).points);
+    for (const BodyFit& fit : fitWalk(walk).scans) {
+      for (int thigh : {kRightUpperLeg, kLeftUpperLeg}) sum += std::pow(fit.model.thetaZ(thigh), 2);
+      count += 2;
+      EXPECT_EQ(fit.model.thetaZ(kLowerTorso), 0.0);
+    }
+  }
+  const double rms = std::sqrt(sum / count);
+  std::printf("[ figure ] mesh human walks: thighs' theta_z RMS %.3f rad\n", rms);
+  EXPECT_LE(rms, 0.06);
 }
 
 TEST(BodyFitter, MeshPeoplesNeckAndHeadKeepTheirLengthsAcrossTheirWalks) {

@@ -57,7 +57,8 @@ using JointLimitSet = std::array<JointLimits, kSegmentCount>;
 // Table 5.2 (symmetric, knee +-30 deg): the thesis protocol's set.
 const JointLimitSet& thesisJointLimits();
 // Normal level walking from gait biomechanics (knee flexion to 80 deg, hip, shoulder and elbow
-// ranges of gait): the fitter's default; config/body_fitter.yaml lists the values and sources.
+// ranges of gait; the lower torso level across: its theta_z limits are both 0, which holds that
+// axis): the fitter's default; config/body_fitter.yaml lists the values and sources.
 const JointLimitSet& walkingJointLimits();
 
 using PoseVector = Eigen::Matrix<double, 6, 1>;       // p, eq 5.1: tau_x,y,z, theta_x,y,z
