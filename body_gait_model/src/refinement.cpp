@@ -35,7 +35,7 @@ using HeldLengths = std::array<bool, kSegmentCount>;
 HeldLengths heldLengths(bool hold_right_thigh, bool hold_left_thigh) {
   HeldLengths held{};
   for (int segment = 0; segment < kSegmentCount; ++segment)
-    held[segment] = isTerminal(segment) || segment == kLowerTorso ||
+    held[segment] = isTerminal(segment) || segment == kLowerTorso || segment == kNeck ||
                     (hold_right_thigh && segment == kRightUpperLeg) ||
                     (hold_left_thigh && segment == kLeftUpperLeg);
   return held;
