@@ -1309,7 +1309,14 @@ WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options) {
       result.refinement = refineWalk(models, clouds, refinement, options.joint_limits);
       for (size_t k = 0; k < fitted.size(); ++k)
         aimLowerLegsAtAnkles(models[k], directs[fitted[k]], options.joint_limits);
-      // Each lower leg: the median over the scans where its foot is planted (else over all).
+      // Each lower leg: the median over the scans where its foot is planted (else over all): a
+      // foot rolled onto its toes, as at toe-off with the knee bent 35-40 deg, ends its shank's
+      // reach short of the sole (CMU walks: 40-86 mm). A leg whose knee bends clearly in no scan
+      // takes every scan: its foot does not roll so (its reach: the mesh people's soles within
+      // -8..+3 mm in every scan), and its knee, hanging from the hip by the held thigh, rises and
+      // falls with the pelvis between scans (mesh people on the sampler: 20 mm SD), so a length
+      // from the one planted scan carried that scan's error into the walk (50 people's lower legs
+      // 13 mm SD between a person's walks, 10 mm over every scan).
       std::vector<double> shank_lengths[2], planted_lengths[2];
       for (size_t k = 0; k < fitted.size(); ++k) {
         const auto shanks =
@@ -1320,7 +1327,8 @@ WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options) {
         }
       }
       for (int side = 0; side < 2; ++side)
-        if (!planted_lengths[side].empty()) shank_lengths[side] = planted_lengths[side];
+        if (!refinement.straight_knee[side] && !planted_lengths[side].empty())
+          shank_lengths[side] = planted_lengths[side];
       // Each lower arm: the median elbow-to-tip distance over the scans whose tip was found.
       std::vector<HandTips> tips;
       std::vector<double> forearm_lengths[2];
