@@ -31,6 +31,9 @@ bool isTerminal(int segment) {
 // the surface equally well, so the surface distance has nothing to place them with. Measured
 // on 10 subjects x 4 poses: segment-length error 4.6 -> 4.2 %, hips 33 -> 28 mm.
 // In a walk the thighs may change: a knee bent in one scan shows where it is in all.
+// The neck keeps its length too: its short surface barely shows where it ends, and refined in
+// a walk it moved with the rest of the chain (CMU person 07's two walks: 98 and 82 mm, 95 and
+// 90 held; identify_walks matched them again).
 using HeldLengths = std::array<bool, kSegmentCount>;
 HeldLengths heldLengths(bool hold_right_thigh, bool hold_left_thigh) {
   HeldLengths held{};

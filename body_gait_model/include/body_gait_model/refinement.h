@@ -36,8 +36,8 @@ struct RefinementReport {
 };
 
 // Refines model in place; returns what changed. The shape (radii, joint offsets) and the lengths
-// of the free ends (head, lower arms, lower legs), of the lower torso and of the upper legs (hips
-// and knees as the direct fit placed them) stay fixed.
+// of the free ends (head, lower arms, lower legs), of the lower torso, of the neck and of the upper
+// legs (hips and knees as the direct fit placed them) stay fixed.
 RefinementReport refineModel(BodyModel& model, const Cloud& cloud,
                              const RefinementOptions& options = {},
                              const JointLimitSet& limits = walkingJointLimits());
