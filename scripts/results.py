@@ -353,6 +353,12 @@ def load(path):
     return yaml.safe_load((ROOT / path).read_text())
 
 
+def noise_source(name):
+    """What a shipped noise file was learned on: its own `source:` line."""
+    path = ROOT / "body_gait_id/config" / name
+    return f"`{name}`, learned on: {yaml.safe_load(path.read_text())['source']}"
+
+
 def recognition_cross_walk(r, q):
     subjects = 20 if q else 50
     plot = "docs/images/gait_id_cross_walk_weighted.png"
@@ -370,8 +376,8 @@ def recognition_cross_walk(r, q):
         lines += [f"Cross-walk (gallery walk 0, probes all 20 frames of eta3 of walk 1; per walk: "
                   f"one decision per probe walk), {subjects} simulated people "
                   f"({'the mesh human' if body == 'mesh' else 'ellipsoid bodies'}), sampler "
-                  f"scanner, 3D features; the shipped noise weights (`feature_noise_sampler.yaml`, "
-                  f"learned on other people's mesh bodies: seed 3), median walk body. "
+                  f"scanner, 3D features; the shipped noise weights "
+                  f"({noise_source('feature_noise_sampler.yaml')}), median walk body. "
                   f"{first_line(text)}"
                   + ("" if body == "mesh" else f" Plot: `{plot}`."), ""]
         lines += table(GAIT_HEADER, gait_rows(load(report)))
@@ -462,8 +468,8 @@ def recognition_full_scanner(r, q):
                                            "3D dynamic+static+shape weighted single scans"})
     lines = [f"Cross-walk on the 12-pair scanner simulation with the product's recognition "
              f"settings (`recognition.launch`: body shape, median walk body, the full scanner's "
-             f"noise file, learned on 25 ellipsoid-body people of another seed, so these "
-             f"{subjects} people are new to it). Rows: per frame of the probe walk's cycle, per "
+             f"noise file, {noise_source('feature_noise_full_scanner.yaml')}: other people "
+             f"than these {subjects}). Rows: per frame of the probe walk's cycle, per "
              f"walk, and walk 1's four fits as single-scan probes (how `gait_id_node` identifies "
              f"each scan of a walk; its "
              f"EER threshold is what `accept_threshold` should be). {first_line(text)} Plot: "
@@ -485,8 +491,8 @@ def recognition_full_scanner_mesh(r, q):
                 if "weighted per walk" in line and "FNIR" in line]
     lines = [f"Walk-level cross-walk of {subjects} simulated people with the mesh human's bodies "
              f"on the 12-pair scanner simulation, product settings (median walk body, the full "
-             f"scanner's noise file, learned on other people's ellipsoid bodies), one decision "
-             f"per walk; each "
+             f"scanner's noise file, {noise_source('feature_noise_full_scanner.yaml')}: other "
+             f"people than these), one decision per walk; each "
              f"feature alone and combined, so that a reader sees how much is gait (dynamic: "
              f"joint angles) and how much body size (static: segment lengths; shape: radii, "
              f"widths, height). {first_line(text)}", ""]

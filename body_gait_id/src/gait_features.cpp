@@ -221,7 +221,10 @@ Eigen::VectorXd noiseWeights(const FeatureNormalization& normalization, const Fe
                                   std::to_string(sd.size()) + " components, the statistics " +
                                   std::to_string(sigma.size()) +
                                   "; learn the noise on the same view and feature set");
-    return Eigen::VectorXd(sigma.cwiseQuotient(sd.cwiseMax(1e-9)));
+    // A zero noise: the learning walks never moved the component (an axis the fitter held),
+    // so it has no scale to be measured in; left out rather than weighed without bound.
+    return Eigen::VectorXd(
+        (sd.array() > 0).select(sigma.array() / sd.array().max(1e-9), 0.0).matrix());
   };
   Eigen::VectorXd w(normalization.size(set));
   Eigen::Index at = 0;

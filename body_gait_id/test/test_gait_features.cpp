@@ -251,5 +251,26 @@ TEST(GaitFeatures, NoiseWeightsMeasureInNoiseUnits) {
       std::invalid_argument);
 }
 
+// A component whose learned noise is 0 (the fitter held it on every learning walk) is left out:
+// a fitter that frees the axis must not make it outweigh every other component.
+TEST(GaitFeatures, ZeroNoiseLeavesTheComponentOut) {
+  FeatureNormalization n;
+  n.mean_dynamic = Eigen::VectorXd::Zero(2);
+  n.sigma_dynamic = Eigen::Vector2d(0.2, 0.2);
+  n.mean_static = Eigen::VectorXd::Zero(1);
+  n.sigma_static = Eigen::VectorXd::Constant(1, 0.1);
+  const FeatureNoise noise{Eigen::Vector2d(0.1, 0.0), Eigen::VectorXd::Constant(1, 1e-12), {}};
+  n.weights = noiseWeights(n, noise, FeatureSet::kDynamicStatic);
+  EXPECT_DOUBLE_EQ(n.weights[0], 2.0);
+  EXPECT_DOUBLE_EQ(n.weights[1], 0.0);
+  EXPECT_DOUBLE_EQ(n.weights[2], 0.1 / 1e-9);  // tiny but measured: floored, still weighed
+  const GaitFeatures moved{Eigen::Vector2d(0.1, 0.3), Eigen::VectorXd::Zero(1), {}};
+  const GaitFeatures origin{Eigen::Vector2d::Zero(), Eigen::VectorXd::Zero(1), {}};
+  EXPECT_NEAR((n.normalized(moved, FeatureSet::kDynamicStatic) -
+               n.normalized(origin, FeatureSet::kDynamicStatic))
+                  .norm(),
+              1.0, 1e-12);
+}
+
 }  // namespace
 }  // namespace body_gait_id

@@ -108,7 +108,9 @@ struct FeatureNoise {
 // SD ratio. Eq 5.16's L2 then measures the probe's distance in units of each component's
 // noise (a Mahalanobis distance with a diagonal within-subject covariance: the nearest
 // neighbour is the most likely subject for Gaussian noise). A noise below 1e-9 is taken as
-// 1e-9. Throws std::invalid_argument when the sizes differ from the statistics'.
+// 1e-9; a noise of 0 (the learning walks never moved the component: an axis the fitter held)
+// gives weight 0, the component left out. Throws std::invalid_argument when the sizes differ
+// from the statistics'.
 Eigen::VectorXd noiseWeights(const FeatureNormalization& normalization, const FeatureNoise& noise,
                              FeatureSet set);
 
