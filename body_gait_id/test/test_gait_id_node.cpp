@@ -4,6 +4,7 @@
 // reported in the log and in every service reply while the node keeps running; a walk's 4 models
 // on the topic give 4 scan answers and one walk answer (an enrolled person's accepted, a
 // stranger's rejected).
+#include <body_gait_id/walk_identification.h>
 #include <body_gait_model/eval/gait_subjects.h>
 #include <body_gait_model/eval/skeleton_model.h>
 #include <body_gait_model/ros/body_model_msg.h>
@@ -401,7 +402,7 @@ TEST_F(GaitIdNodeTest, AWalksFourModelsAreIdentifiedAsOneWalk) {
   EXPECT_EQ(known->subject_id, ids[1]);
   EXPECT_EQ(known->name, people_[1].name);
   EXPECT_TRUE(known->accepted) << "score " << known->score;
-  EXPECT_DOUBLE_EQ(known->threshold, 15.9);
+  EXPECT_DOUBLE_EQ(known->threshold, kDefaultWalkAcceptThreshold);
   ASSERT_EQ(known->ranked_subject_ids.size(), 3u);  // rank-5 list of a 3-person gallery
   EXPECT_EQ(known->ranked_subject_ids[0], ids[1]);
   EXPECT_DOUBLE_EQ(known->ranked_scores[0], known->score);

@@ -27,11 +27,6 @@ namespace body_gait_id {
 // Equal-error threshold of 3D dynamic + static features (evaluate_gait_id --protocol cross-walk
 // --subjects 20 --scanner sampler: eer_threshold 4.53, EER 11.8 %).
 constexpr double kDefaultAcceptThreshold = 4.5;
-// Open-set threshold of a walk's mean score with the recognition.launch defaults (dynamic +
-// static + shape, the full scanner's noise weights, median body): the threshold at FNIR 5 % of
-// 50 simulated people's walks on the full scanner, walks fitted together (evaluate_gait_id
-// --per-walk, docs/EVALUATION.md).
-constexpr double kDefaultWalkAcceptThreshold = 15.9;
 
 class GaitIdNode {
  public:

@@ -24,7 +24,7 @@ struct Arguments {
                                          feature_set = "dynamic_static", feature_noise;
   int age = 0;
   std::uint32_t walk_id = 0;
-  double walk_threshold = 15.9;
+  double walk_threshold = body_gait_id::kDefaultWalkAcceptThreshold;
   std::vector<std::string> scans;
   std::int64_t subject_id = 0;
 };
