@@ -223,14 +223,21 @@ TEST(GaitFeatures, ShapeSetAppendsNormalizedShape) {
   }
 }
 
+// Statistics of two dynamic components and one static one, every mean 0.
+FeatureNormalization zeroMeanNormalization(const Eigen::Vector2d& sigma_dynamic,
+                                           double sigma_static) {
+  FeatureNormalization n;
+  n.mean_dynamic = Eigen::VectorXd::Zero(2);
+  n.sigma_dynamic = sigma_dynamic;
+  n.mean_static = Eigen::VectorXd::Zero(1);
+  n.sigma_static = Eigen::VectorXd::Constant(1, sigma_static);
+  return n;
+}
+
 // Weights sigma / noise: a difference of one noise SD in a component scores 1 whatever the
 // component's spread between people.
 TEST(GaitFeatures, NoiseWeightsMeasureInNoiseUnits) {
-  FeatureNormalization n;
-  n.mean_dynamic = Eigen::VectorXd::Zero(2);
-  n.sigma_dynamic = Eigen::Vector2d(2.0, 0.5);
-  n.mean_static = Eigen::VectorXd::Zero(1);
-  n.sigma_static = Eigen::VectorXd::Constant(1, 0.1);
+  FeatureNormalization n = zeroMeanNormalization(Eigen::Vector2d(2.0, 0.5), 0.1);
   FeatureNoise noise{Eigen::Vector2d(0.5, 0.5), Eigen::VectorXd::Constant(1, 0.01), {}};
   const Eigen::VectorXd w = noiseWeights(n, noise, FeatureSet::kDynamicStatic);
   ASSERT_EQ(w.size(), 3);
@@ -254,11 +261,7 @@ TEST(GaitFeatures, NoiseWeightsMeasureInNoiseUnits) {
 // A component whose learned noise is 0 (the fitter held it on every learning walk) is left out:
 // a fitter that frees the axis must not make it outweigh every other component.
 TEST(GaitFeatures, ZeroNoiseLeavesTheComponentOut) {
-  FeatureNormalization n;
-  n.mean_dynamic = Eigen::VectorXd::Zero(2);
-  n.sigma_dynamic = Eigen::Vector2d(0.2, 0.2);
-  n.mean_static = Eigen::VectorXd::Zero(1);
-  n.sigma_static = Eigen::VectorXd::Constant(1, 0.1);
+  FeatureNormalization n = zeroMeanNormalization(Eigen::Vector2d(0.2, 0.2), 0.1);
   const FeatureNoise noise{Eigen::Vector2d(0.1, 0.0), Eigen::VectorXd::Constant(1, 1e-12), {}};
   n.weights = noiseWeights(n, noise, FeatureSet::kDynamicStatic);
   EXPECT_DOUBLE_EQ(n.weights[0], 2.0);
