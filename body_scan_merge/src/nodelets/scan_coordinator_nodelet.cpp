@@ -392,7 +392,7 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     const ros::WallTime start = ros::WallTime::now();
     for (const ros::WallTime deadline = start + ros::WallDuration(inputs_timeout_);;
          ros::WallDuration(0.05).sleep()) {
-      if (persistentClient<std_srvs::Trigger>(service).call(check) && check.response.success) {
+      if (callPersistent(service, check) && check.response.success) {
         const double waited = (ros::WallTime::now() - start).toSec();
         if (waited > 0.01)
           NODELET_INFO("the merge heard every running pair after %.2f s: %s", waited,
@@ -431,13 +431,12 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
         for (const std::string& other : group)
           if (other != id) capture.request.active_pairs.push_back(other);
         const std::string service = ros::names::append(root_, id + "/driver/capture");
-        ros::ServiceClient client = persistentClient<body_scan_msgs::Capture>(service);
         std::string error;
         // A driver may still be coming up: wait for its service as long as for its answer.
-        if (!client.isValid() &&
+        if (!persistentClient<body_scan_msgs::Capture>(service).isValid() &&
             !ros::service::waitForService(service, ros::Duration(pair_timeout_)))
           error = service + " is not advertised (is the pair's driver running?)";
-        else if (!client.call(capture))
+        else if (!callPersistent(service, capture))
           error = service + " call failed";
         else if (!capture.response.success)
           error = capture.response.message;
@@ -469,6 +468,24 @@ class ScanCoordinatorNodelet : public nodelet::Nodelet {
     if (!client.isValid())
       client = getNodeHandle().serviceClient<Service>(service, /*persistent=*/true);
     return client;
+  }
+
+  // Calls `service` on its persistent connection. A failed call forgets the connection, so the
+  // next call makes a new one: roscpp never marks a link invalid when its connection drops while
+  // the link is being made (its server killed at that moment), and every call on it would fail.
+  template <class Service>
+  bool callPersistent(const std::string& service, Service& call) {
+    ros::ServiceClient client = persistentClient<Service>(service);
+    if (client.call(call)) return true;
+    if (client.isValid())
+      NODELET_WARN(
+          "%s: the call failed on a connection that still looks open; the next call "
+          "makes a new one",
+          service.c_str());
+    std::lock_guard<std::mutex> lock(clients_mutex_);
+    const auto stored = clients_.find(service);
+    if (stored != clients_.end() && stored->second == client) clients_.erase(stored);
+    return false;
   }
 
   std::vector<std::string> pairs_;
