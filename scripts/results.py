@@ -252,17 +252,20 @@ FIT_HEADER = ["case", "fits", "joint centre error", "Procrustes", "offsets remov
 
 def body_fit(r, q):
     subjects = 3 if q else 10
+    full = 2 if q else 10  # the full scanner's cases: about 3 s a scan
     cases = [
         (f"sampler (ray cast from the 12 viewpoints, 2 mm noise), {subjects} subjects x 4 poses",
          f"--subjects {subjects} --columns 300", "sampler"),
         ("sampler, a whole pole missing", f"--subjects {subjects} --columns 300 "
          f"--missing-viewpoints 4,5,6,7", "sampler_pole_missing"),
-        (f"full scanner simulation, {2 if q else 5} subjects x 4 poses, walk-level fit",
-         f"--full-scanner --subjects {2 if q else 5} --fit walk", "full_walk"),
+        (f"full scanner simulation, {full} subjects x 4 poses, walk-level fit",
+         f"--full-scanner --subjects {full} --fit walk", "full_walk"),
+        ("the same, every scan fitted alone", f"--full-scanner --subjects {full} --fit scan",
+         "full_scan"),
         (f"mesh human (`--body mesh`), sampler, {subjects} subjects x 4 poses",
          f"--subjects {subjects} --columns 300 --body mesh", "mesh_sampler"),
-        (f"mesh human, full scanner simulation, {2 if q else 5} subjects x 4 poses, walk-level "
-         f"fit", f"--full-scanner --subjects {2 if q else 5} --fit walk --body mesh",
+        (f"mesh human, full scanner simulation, {full} subjects x 4 poses, walk-level fit",
+         f"--full-scanner --subjects {full} --fit walk --body mesh",
          "mesh_full_walk"),
     ]
     if not q:

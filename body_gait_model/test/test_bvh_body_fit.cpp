@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <string>
 #include <vector>
 
 namespace body_gait_model {
@@ -21,14 +23,32 @@ constexpr double kPi = 3.14159265358979323846;
 
 std::string walkPath(const std::string& walk) { return sim::cmuWalksDir() + "/" + walk + ".bvh"; }
 
+sim::BvhSubject loadWalk(const std::string& walk) {
+  return sim::BvhSubject(sim::loadBvh(walkPath(walk)),
+                         sim::loadBvhJointMap(sim::driverConfigDir() + "/bvh/cmu_joint_map.yaml"),
+                         walk);
+}
+
+// A walk's 4 representative poses on the ellipsoid body, scanned by the full scanner once per
+// test binary: two tests fit 07_02's scans, and a scan takes seconds.
+const std::vector<eval::SampledBody>& scannedWalk(const std::string& walk) {
+  static std::map<std::string, std::vector<eval::SampledBody>> scanned;
+  auto [entry, added] = scanned.try_emplace(walk);
+  if (added) {
+    const sim::BvhSubject subject = loadWalk(walk);
+    const sim::GaitPoseFrames poses = sim::pickGaitPoses(subject);
+    for (int pose = 0; pose < 4; ++pose)
+      entry->second.push_back(eval::scanBodyWithFullScanner(subject.body(poses.frame[pose])));
+  }
+  return entry->second;
+}
+
 TEST(BvhBodyFit, FourPosesOfARealWalkScannedAndFitted) {
   const std::string path = walkPath("07_02");
   ASSERT_TRUE(std::filesystem::exists(path))
       << "CMU walk not found: " << path
       << " (body_scan_driver/data/cmu_walks, or BODY_SCAN_BVH_DIR naming a folder with it)";
-  const sim::BvhSubject subject(
-      sim::loadBvh(path), sim::loadBvhJointMap(sim::driverConfigDir() + "/bvh/cmu_joint_map.yaml"),
-      "07_02");
+  const sim::BvhSubject subject = loadWalk("07_02");
   const sim::GaitPoseFrames poses = sim::pickGaitPoses(subject);
   // The frames bvh_gait_poses reports (README), 0-based here.
   EXPECT_EQ(poses.frame, (std::array<int, 4>{10, 38, 74, 107}));
@@ -36,8 +56,7 @@ TEST(BvhBodyFit, FourPosesOfARealWalkScannedAndFitted) {
   int right = 0;
   for (int pose = 0; pose < 4; ++pose) {
     SCOPED_TRACE("pose " + std::to_string(pose + 1));
-    const sim::HumanBodySpec spec = subject.body(poses.frame[pose]);
-    const eval::SampledBody body = eval::scanBodyWithFullScanner(spec);
+    const eval::SampledBody& body = scannedWalk("07_02")[pose];
     // The truth the fit is judged against is the BVH's joints, placed in the scanner.
     const auto bvh = subject.joints(poses.frame[pose]);
     EXPECT_NEAR((eval::trueJoint(body, "left_knee") - eval::trueJoint(body, "left_ankle")).norm(),
@@ -72,9 +91,7 @@ TEST(BvhBodyFit, ALiftedShankMeetingTheOtherFootKeepsItsLength) {
   // counted as a planted sole: the left lower leg came out 26 % long and all 4 fits flagged.
   const std::string path = walkPath("08_03");
   ASSERT_TRUE(std::filesystem::exists(path)) << "CMU walk not found: " << path;
-  const sim::BvhSubject subject(
-      sim::loadBvh(path), sim::loadBvhJointMap(sim::driverConfigDir() + "/bvh/cmu_joint_map.yaml"),
-      "08_03");
+  const sim::BvhSubject subject = loadWalk("08_03");
   const sim::GaitPoseFrames poses = sim::pickGaitPoses(subject);
   eval::FullScannerOptions scanner;
   scanner.body = eval::BodyKind::kMesh;
@@ -102,9 +119,7 @@ TEST(BvhBodyFit, ALiftedShankMeetingTheOtherFootKeepsItsLength) {
 eval::FitErrors meshPoseErrors(const std::string& walk, int pose) {
   const std::string path = walkPath(walk);
   EXPECT_TRUE(std::filesystem::exists(path)) << "CMU walk not found: " << path;
-  const sim::BvhSubject subject(
-      sim::loadBvh(path), sim::loadBvhJointMap(sim::driverConfigDir() + "/bvh/cmu_joint_map.yaml"),
-      walk);
+  const sim::BvhSubject subject = loadWalk(walk);
   eval::FullScannerOptions scanner;
   scanner.body = eval::BodyKind::kMesh;
   const eval::SampledBody body =
@@ -142,13 +157,8 @@ TEST(BvhBodyFit, OnePersonsTwoWalksShareTheirNeckLength) {
   double neck[2] = {0, 0};
   const char* walks[2] = {"07_02", "07_08"};
   for (int w = 0; w < 2; ++w) {
-    const sim::BvhSubject subject(
-        sim::loadBvh(walkPath(walks[w])),
-        sim::loadBvhJointMap(sim::driverConfigDir() + "/bvh/cmu_joint_map.yaml"), walks[w]);
-    const sim::GaitPoseFrames poses = sim::pickGaitPoses(subject);
     std::vector<Cloud> clouds;
-    for (int pose = 0; pose < 4; ++pose)
-      clouds.push_back(eval::scanBodyWithFullScanner(subject.body(poses.frame[pose])).points);
+    for (const eval::SampledBody& body : scannedWalk(walks[w])) clouds.push_back(body.points);
     const WalkFit fit = fitWalk(clouds);
     ASSERT_EQ(fit.scans.size(), 4u);
     neck[w] = fit.scans.front().model.r[kNeck];
