@@ -293,8 +293,7 @@ def body_fit(r, q):
              "error once each joint's mean offset (fitted - true, in the body frame), learned on "
              "the other people's fits, is subtracted; what is left is the fits' scatter, without "
              "the difference between where the fitter and the truth put a joint (the mesh rig's "
-             "hips and shoulders sit deeper in the body than the segment axes of the thesis's "
-             "model).", ""]
+             "hips sit behind the lower torso's axis, where the thesis's model has them).", ""]
     return commands, seconds, lines + table(FIT_HEADER, rows)
 
 

@@ -745,16 +745,16 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
   std::vector<Eigen::Vector3d> limb_points[6];
   for (size_t i = 0; i < model_points.size(); ++i)
     if (part[i] != kUnassigned) limb_points[part[i]].push_back(model_points[i]);
-  // Proximal joints. Shoulder: below the top of the shoulder above the upper-arm line by the
-  // arm's radius. Hip: on the thigh line at hip_height * body height above the lowest point.
-  // The top of the shoulder is no higher than the shoulders' top the body axes found (the
-  // highest slice as wide as shoulders: the acromia): above it, a column reaching in toward the
-  // neck meets the trapezius sloping up (the mesh human on the CMU walks: shoulders 37-51 mm
-  // high, 27-41 mm with this bound; the ellipsoid bodies' shoulders 1-2 mm nearer). It is
-  // searched within 0.1 of the body height of the torso's top: the line of an arm swung forward
-  // across the body, extended up, passes behind the shoulder and met the buttocks (mesh human,
-  // sampler: an arm not fitted at all).
-  auto shoulderOn = [&](const Line& line, double radius) {
+  // Proximal joints. Shoulder: below the top of the shoulder above the upper-arm line by
+  // shoulder_depth of the arm's radii (FitOptions). Hip: on the thigh line at hip_height * body
+  // height above the lowest point. The top of the shoulder is no higher than the shoulders' top the
+  // body axes found (the highest slice as wide as shoulders: the acromia): above it, a column
+  // reaching in toward the neck meets the trapezius sloping up (the mesh human on the CMU walks:
+  // shoulders 37-51 mm high, 27-41 mm with this bound; the ellipsoid bodies' shoulders 1-2 mm
+  // nearer). It is searched within 0.1 of the body height of the torso's top: the line of an arm
+  // swung forward across the body, extended up, passes behind the shoulder and met the buttocks
+  // (mesh human, sampler: an arm not fitted at all).
+  auto shoulderOn = [&](const Line& line, double radius, double depth_in_radii) {
     const Eigen::Vector3d column = line.atHeight(torso.top);
     double shoulder_top = -std::numeric_limits<double>::infinity();
     for (const auto& p : model_points)
@@ -762,7 +762,7 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
           std::abs(p.y() - torso.top) < 0.1 * body_height)
         shoulder_top = std::max(shoulder_top, p.y());
     if (!std::isfinite(shoulder_top)) shoulder_top = torso.top;
-    return line.atHeight(std::min(shoulder_top, axes.shoulder_top) - radius);
+    return line.atHeight(std::min(shoulder_top, axes.shoulder_top) - depth_in_radii * radius);
   };
   // Hips: inside the pelvis, unseen. Height by proportion; depth on the lower torso's axis; each
   // hip above the centre of its thigh's top 10 cm (a thigh line extrapolated up from a low
@@ -797,10 +797,12 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
   for (Part limb : {kRightArm, kLeftArm, kRightLeg, kLeftLeg}) {
     const bool arm = limb == kRightArm || limb == kLeftArm;
     const int side = limb == kLeftArm || limb == kLeftLeg ? 1 : 0;
+    // The arm's split (kElbowFraction) is searched from one radius below the shoulder's top,
+    // where its proportion was measured.
     if (arm)
       limbs[limb] = fitLimb(
           limb_points[limb], limb_points[limb], kElbowFraction, options.arm_split_window,
-          [&](const Line& line) { return shoulderOn(line, kArmRadius); }, false);
+          [&](const Line& line) { return shoulderOn(line, kArmRadius, 1.0); }, false);
     else {
       // The foot sticks out forward from the shank: leave it out of the line fits.
       double lowest = std::numeric_limits<double>::infinity();
@@ -833,7 +835,8 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
           " (" + std::to_string(limb_points[limb].size()) +
           "); the subject must stand with arms and legs apart and in view of every pole");
     if (arm)
-      shoulder[side] = shoulderOn(limbs[limb].upper, std::max(limbs[limb].upper_radius[0], 0.02));
+      shoulder[side] = shoulderOn(limbs[limb].upper, std::max(limbs[limb].upper_radius[0], 0.02),
+                                  options.shoulder_depth);
     else
       hip[side] = hip_of_side[side];
   }

@@ -151,6 +151,7 @@ FitOptions loadFitOptions(const std::string& path) {
       .field("leg_split_window", options.leg_split_window)
       .field("limb_track_radius", options.limb_track_radius)
       .field("hip_height", options.hip_height)
+      .field("shoulder_depth", options.shoulder_depth)
       .field("max_fit_points", options.max_fit_points);
   top.read(root);
   return options;

@@ -28,6 +28,7 @@ TEST(FitOptionsFile, ShippedConfigHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(read.axes.shoulder_band_high, defaults.axes.shoulder_band_high);
   EXPECT_EQ(read.refinement.sample_points, defaults.refinement.sample_points);
   EXPECT_DOUBLE_EQ(read.hip_height, defaults.hip_height);
+  EXPECT_DOUBLE_EQ(read.shoulder_depth, defaults.shoulder_depth);
   for (int segment = 0; segment < kSegmentCount; ++segment) {
     SCOPED_TRACE(segmentInfo(segment).name);
     EXPECT_NEAR(read.joint_limits[segment].x_min, walkingJointLimits()[segment].x_min, 1e-12);

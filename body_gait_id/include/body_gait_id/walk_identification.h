@@ -16,7 +16,7 @@ namespace body_gait_id {
 // shape, the full scanner's noise weights, median body): the threshold at FNIR 5 % of 50
 // simulated mesh-body people's walks on the full scanner, walks fitted together
 // (evaluate_gait_id --per-walk, docs/RESULTS.md). gait_id_node's and gait_gallery's default.
-constexpr double kDefaultWalkAcceptThreshold = 12.6;
+constexpr double kDefaultWalkAcceptThreshold = 12.7;
 
 struct WalkMatch {
   std::int64_t subject_id;

@@ -57,6 +57,12 @@ struct FitOptions {
   // Hip joint centres above the lowest point, * body height (Drillis & Contini: 0.53). They lie
   // inside the pelvis, so the surface alone does not show them; the thigh line gives x and z.
   double hip_height = 0.53;
+  // Shoulder joint centres below the top of the shoulder above each upper arm's line, in that
+  // arm's proximal radii. The humeral head's centre lies about 5 cm below the acromion, under
+  // the deltoid's and skin's 1-2 cm: on the mesh people and the CMU walks on them the shoulder's
+  // top stood 74-77 mm above it, about two radii (one radius: shoulders 33-38 mm high, 22-28 mm
+  // in); the ellipsoid body's cap-shaped shoulder has it one radius down.
+  double shoulder_depth = 2.0;
   // The axis, cross-section and line-fit stages (and refinement's sampling) run on an even
   // subsample of at most this many points: they are statistics over 1 cm slices, which stay
   // dense (> 100 points) at this size; a 1 M point cloud then fits ~2x faster (bench_body_fit).
