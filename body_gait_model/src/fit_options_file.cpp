@@ -154,6 +154,16 @@ FitOptions loadFitOptions(const std::string& path) {
       .field("shoulder_depth", options.shoulder_depth)
       .field("max_fit_points", options.max_fit_points);
   top.read(root);
+  // Proportions outside the body: every fit would place these joints off the person.
+  if (!(options.hip_height > 0 && options.hip_height < 1))
+    throw std::runtime_error(path + ": 'hip_height' is " + std::to_string(options.hip_height) +
+                             "; it is a fraction of the body height: use 0 < hip_height < 1 "
+                             "(0.53 by default)");
+  if (!(options.shoulder_depth >= 0 && options.shoulder_depth <= 4))
+    throw std::runtime_error(path + ": 'shoulder_depth' is " +
+                             std::to_string(options.shoulder_depth) +
+                             "; it counts arm radii below the shoulder's top: use 0 .. 4 (2 by "
+                             "default)");
   return options;
 }
 

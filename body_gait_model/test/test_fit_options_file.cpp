@@ -81,6 +81,8 @@ TEST(FitOptionsFile, BadFilesAreClearErrors) {
   expectError("joint_limits: table52\n", "use walking, thesis or a map");
   expectError("joint_limits: {knee: {x: [0, 90], z: [0, 0]}}\n", "unknown key 'joint_limits.knee'");
   expectError("joint_limits: {lower_leg: {x: [90, 0], z: [0, 0]}}\n", "min <= max");
+  expectError("hip_height: 53\n", "use 0 < hip_height < 1");
+  expectError("shoulder_depth: -1\n", "use 0 .. 4");
   EXPECT_THROW(loadFitOptions("/nonexistent/body_fitter.yaml"), std::runtime_error);
 }
 
