@@ -294,7 +294,7 @@ def body_fit(r, q):
              "error once each joint's mean offset (fitted - true, in the body frame), learned on "
              "the other people's fits, is subtracted; what is left is the fits' scatter, without "
              "the difference between where the fitter and the truth put a joint (the mesh rig's "
-             "hips sit behind the lower torso's axis, where the thesis's model has them).", ""]
+             "hips sit behind the lower torso's axis, on which the thesis's model puts them).", ""]
     return commands, seconds, lines + table(FIT_HEADER, rows)
 
 
@@ -521,6 +521,9 @@ def recognition_full_scanner_mesh(r, q):
 def recognition_cmu(r, q):
     if q:
         return [], 0.0, ["Skipped in quick mode (the CMU walks' scans take minutes)."]
+    if not list((ROOT / CMU_MODELS).glob("[0-9]*.yaml")):
+        raise RuntimeError(f"no CMU walk fits in {CMU_MODELS}: the body_fit table writes them; "
+                           f"run it first (--only body_fit recognition_cmu)")
     report = WORK / "gait_id_cmu_walks.yaml"
     evaluate = (f"{LIB}/body_gait_id/evaluate_gait_id --protocol cross-walk --bvh {CMU_WALKS} "
                 f"--scanner full --rows 3d --decomposition --per-walk --walk-body median "
