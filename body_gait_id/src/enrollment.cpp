@@ -36,10 +36,10 @@ body_gait_model::RepresentativePoses withMedianBody(const body_gait_model::Repre
     median([k](body_gait_model::BodyModel& m) -> double& { return m.shape.proximal_radius[k]; });
     median([k](body_gait_model::BodyModel& m) -> double& { return m.shape.distal_radius[k]; });
   }
-  median([](body_gait_model::BodyModel& m) -> double& { return m.shape.shoulder_half_width; });
-  median([](body_gait_model::BodyModel& m) -> double& { return m.shape.shoulder_drop; });
-  median([](body_gait_model::BodyModel& m) -> double& { return m.shape.hip_half_width; });
-  median([](body_gait_model::BodyModel& m) -> double& { return m.shape.hip_rise; });
+  for (const auto& placement : body_gait_model::kJointPlacements)
+    median([&placement](body_gait_model::BodyModel& m) -> double& {
+      return m.shape.*placement.field;
+    });
   return out;
 }
 

@@ -47,7 +47,10 @@ CREATE TABLE normalization (  -- eqs 5.14-5.15 over the whole gallery, per view
   sum_shape BLOB NOT NULL, sum_sq_shape BLOB NOT NULL);
 )sql";
 
-constexpr int kShapeBlobSize = 2 * body_gait_model::kSegmentCount + 4;
+// The radii, then the joint placements in kJointPlacements order. Galleries written before
+// hip_back existed store one placement fewer: their hips sit on the lower torso's axis.
+constexpr int kPlacementCount = std::size(body_gait_model::kJointPlacements);
+constexpr int kShapeBlobSize = 2 * body_gait_model::kSegmentCount + kPlacementCount;
 
 constexpr View kViews[] = {View::k3D, View::kFrontal, View::kSide};
 
@@ -57,21 +60,25 @@ Eigen::VectorXd shapeVector(const body_gait_model::BodyShape& shape) {
     v[i] = shape.proximal_radius[i];
     v[body_gait_model::kSegmentCount + i] = shape.distal_radius[i];
   }
-  v.tail<4>() << shape.shoulder_half_width, shape.shoulder_drop, shape.hip_half_width,
-      shape.hip_rise;
+  for (int i = 0; i < kPlacementCount; ++i)
+    v[2 * body_gait_model::kSegmentCount + i] = shape.*body_gait_model::kJointPlacements[i].field;
   return v;
 }
 
-body_gait_model::BodyShape shapeFromVector(const Eigen::VectorXd& v) {
+// fail: the database's clear error for a blob of neither size.
+template <typename Fail>
+body_gait_model::BodyShape shapeFromVector(const Eigen::VectorXd& v, const Fail& fail) {
+  if (v.size() != kShapeBlobSize && v.size() != kShapeBlobSize - 1)
+    fail(SQLITE_CORRUPT, "reading a pose's shape: " + std::to_string(v.size()) +
+                             " numbers, expected " + std::to_string(kShapeBlobSize));
   body_gait_model::BodyShape shape;
   for (int i = 0; i < body_gait_model::kSegmentCount; ++i) {
     shape.proximal_radius[i] = v[i];
     shape.distal_radius[i] = v[body_gait_model::kSegmentCount + i];
   }
-  shape.shoulder_half_width = v[kShapeBlobSize - 4];
-  shape.shoulder_drop = v[kShapeBlobSize - 3];
-  shape.hip_half_width = v[kShapeBlobSize - 2];
-  shape.hip_rise = v[kShapeBlobSize - 1];
+  shape.hip_back = 0;
+  for (int i = 0; i < v.size() - 2 * body_gait_model::kSegmentCount; ++i)
+    shape.*body_gait_model::kJointPlacements[i].field = v[2 * body_gait_model::kSegmentCount + i];
   return shape;
 }
 
@@ -542,7 +549,7 @@ std::vector<PoseRecord> GalleryDatabase::poseRecords(std::int64_t subject_id) co
     record.model.p = list.vector(3, 6);
     record.model.q = list.vector(4, 22);
     record.model.r = list.vector(5, 12);
-    record.model.shape = shapeFromVector(list.vector(6, kShapeBlobSize));
+    record.model.shape = shapeFromVector(list.vector(6, -1), thrower);
     out.push_back(std::move(record));
   }
   return out;
@@ -565,7 +572,7 @@ std::vector<GalleryPose> GalleryDatabase::poses(View view) const {
   while (list.step()) {
     body_gait_model::BodyModel model;
     model.r = list.vector(5, kStaticSize);
-    model.shape = shapeFromVector(list.vector(6, kShapeBlobSize));
+    model.shape = shapeFromVector(list.vector(6, -1), thrower);
     out.push_back({list.integer(0),
                    static_cast<int>(list.integer(1)),
                    static_cast<int>(list.integer(2)),

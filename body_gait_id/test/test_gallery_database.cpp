@@ -114,6 +114,7 @@ TEST_F(GalleryDatabaseTest, EnrolListReopenAndIdentify) {
   EXPECT_EQ(records[41].model.r, bob[1].model.r);
   EXPECT_EQ(records[41].model.shape.distal_radius, bob[1].model.shape.distal_radius);
   EXPECT_EQ(records[41].model.shape.hip_rise, bob[1].model.shape.hip_rise);
+  EXPECT_EQ(records[41].model.shape.hip_back, bob[1].model.shape.hip_back);
 
   // The stored statistics are eqs 5.14-5.15 over the whole gallery, per view.
   for (View view : {View::k3D, View::kFrontal, View::kSide}) {
@@ -283,6 +284,35 @@ TEST_P(GalleryUpgradeTest, OlderFileIsUpgraded) {
 }
 
 INSTANTIATE_TEST_SUITE_P(FromVersion, GalleryUpgradeTest, ::testing::Values(1, 2));
+
+// Poses stored before hip_back existed have one joint placement fewer in their shape: their hips
+// read back on the lower torso's axis; a shape of another size is a clear error.
+TEST_F(GalleryDatabaseTest, ShapesWithoutHipBackReadWithTheHipsOnTheAxis) {
+  const std::vector<PoseRecord> poses = trainingPoses(1.7, 1);
+  ASSERT_GT(poses[0].model.shape.hip_back, 0.01);
+  {
+    GalleryDatabase db(path_);
+    db.enroll({"A", "", 0}, {}, poses);
+  }
+  const int placements_end = (2 * body_gait_model::kSegmentCount + 4) * int(sizeof(double));
+  execRaw("UPDATE poses SET shape = substr(shape, 1, " + std::to_string(placements_end) + ")");
+  {
+    GalleryDatabase db(path_);
+    const std::vector<PoseRecord> records = db.poseRecords();
+    ASSERT_EQ(records.size(), poses.size());
+    EXPECT_EQ(records[0].model.shape.hip_back, 0.0);
+    EXPECT_EQ(records[0].model.shape.hip_rise, poses[0].model.shape.hip_rise);
+    EXPECT_EQ(db.poses().size(), poses.size());
+  }
+  execRaw("UPDATE poses SET shape = substr(shape, 1, 16)");
+  GalleryDatabase db(path_);
+  try {
+    db.poseRecords();
+    ADD_FAILURE() << "a two-number shape was read";
+  } catch (const GalleryError& e) {
+    EXPECT_NE(std::string(e.what()).find("shape"), std::string::npos) << e.what();
+  }
+}
 
 TEST_F(GalleryDatabaseTest, LockedDatabaseWaitsThenGivesAClearError) {
   GalleryDatabase db(path_, std::chrono::milliseconds(200));

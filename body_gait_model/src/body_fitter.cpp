@@ -764,11 +764,25 @@ LimbJoints fitLimbs(const std::vector<Eigen::Vector3d>& model_points, const std:
     if (!std::isfinite(shoulder_top)) shoulder_top = torso.top;
     return line.atHeight(std::min(shoulder_top, axes.shoulder_top) - depth_in_radii * radius);
   };
-  // Hips: inside the pelvis, unseen. Height by proportion; depth on the lower torso's axis; each
-  // hip above the centre of its thigh's top 10 cm (a thigh line extrapolated up from a low
-  // crotch swings wildly when the knee is bent).
+  // Hips: inside the pelvis, unseen. Height by proportion; depth a fraction of the body's depth
+  // there from the back (the lower torso's axis, centred on belly and buttocks, lies 35-40 mm
+  // in front of real hips); each hip above the centre of its thigh's top 10 cm (a thigh line
+  // extrapolated up from a low crotch swings wildly when the knee is bent).
   const double hip_y = axes.lowest + options.hip_height * stature;
-  const Eigen::Vector3d pelvis_centre = Line{torso.waist, torso.lower_direction}.atHeight(hip_y);
+  Eigen::Vector3d pelvis_centre = Line{torso.waist, torso.lower_direction}.atHeight(hip_y);
+  {
+    // The midline's front and back at hip height (|x| < 4 cm: between the thighs, clear of the
+    // hands).
+    std::vector<double> depths;
+    for (const auto& p : model_points)
+      if (std::abs(p.y() - hip_y) < 0.02 && std::abs(p.x() - pelvis_centre.x()) < 0.04)
+        depths.push_back(p.z());
+    constexpr size_t kMinDepthPoints = 20;
+    if (depths.size() >= kMinDepthPoints) {
+      const double back = quantile(depths, 0.01), front = quantile(depths, 0.99);
+      pelvis_centre.z() = back + options.hip_depth_fraction * (front - back);
+    }
+  }
   // Each thigh's axis at its top: the centre of a circle fitted to its top 10 cm (CircleFit in
   // x, z). The points' centroid lay ~16 mm outward: the inner thigh, hidden by the other leg,
   // returns fewer points than the outer.
@@ -884,7 +898,7 @@ void assembleModel(const Line& upper_axis, const HeadFit& head, const LimbJoints
     const PosedModel posed = forwardKinematics(model);
     const Eigen::Isometry3d upper_frame_inverse = posed.segments[kUpperTorso].frame.inverse();
     const Eigen::Isometry3d lower_frame_inverse = posed.segments[kLowerTorso].frame.inverse();
-    double shoulder_x = 0, shoulder_y = 0, hip_x = 0, hip_y = 0;
+    double shoulder_x = 0, shoulder_y = 0, hip_x = 0, hip_y = 0, hip_z = 0;
     for (int side = 0; side < 2; ++side) {
       const Eigen::Vector3d s = upper_frame_inverse * axes.toWorld(shoulder[side]);
       const Eigen::Vector3d h = lower_frame_inverse * axes.toWorld(hip[side]);
@@ -892,11 +906,13 @@ void assembleModel(const Line& upper_axis, const HeadFit& head, const LimbJoints
       shoulder_y += s.y() / 2;
       hip_x += std::abs(h.x()) / 2;
       hip_y += h.y() / 2;
+      hip_z += h.z() / 2;
     }
     shape.shoulder_half_width = shoulder_x;
     shape.shoulder_drop = model.r[kUpperTorso] - shoulder_y;
     shape.hip_half_width = hip_x;
     shape.hip_rise = model.r[kLowerTorso] + hip_y;  // hip_y is negative (below the waist)
+    shape.hip_back = -hip_z;
   }
   shape.proximal_radius[kUpperTorso] = shape.proximal_radius[kLowerTorso] = torso.waist_radius;
   shape.distal_radius[kUpperTorso] = torso.upper_radius_top;
@@ -1287,12 +1303,9 @@ WalkFit fitWalk(const std::vector<Cloud>& walk, const FitOptions& options) {
       shared.shape.distal_radius[s] =
           medianOf([s](const BodyModel& m) { return m.shape.distal_radius[s]; });
     }
-    shared.shape.shoulder_half_width =
-        medianOf([](const BodyModel& m) { return m.shape.shoulder_half_width; });
-    shared.shape.shoulder_drop = medianOf([](const BodyModel& m) { return m.shape.shoulder_drop; });
-    shared.shape.hip_half_width =
-        medianOf([](const BodyModel& m) { return m.shape.hip_half_width; });
-    shared.shape.hip_rise = medianOf([](const BodyModel& m) { return m.shape.hip_rise; });
+    for (const auto& [name, field] : kJointPlacements)
+      shared.shape.*field =
+          medianOf([field = field](const BodyModel& m) { return m.shape.*field; });
     std::vector<BodyModel> models;
     std::vector<const Cloud*> clouds;
     for (size_t i : fitted) {

@@ -151,6 +151,7 @@ FitOptions loadFitOptions(const std::string& path) {
       .field("leg_split_window", options.leg_split_window)
       .field("limb_track_radius", options.limb_track_radius)
       .field("hip_height", options.hip_height)
+      .field("hip_depth_fraction", options.hip_depth_fraction)
       .field("shoulder_depth", options.shoulder_depth)
       .field("max_fit_points", options.max_fit_points);
   top.read(root);
@@ -159,6 +160,11 @@ FitOptions loadFitOptions(const std::string& path) {
     throw std::runtime_error(path + ": 'hip_height' is " + std::to_string(options.hip_height) +
                              "; it is a fraction of the body height: use 0 < hip_height < 1 "
                              "(0.53 by default)");
+  if (!(options.hip_depth_fraction > 0 && options.hip_depth_fraction < 1))
+    throw std::runtime_error(path + ": 'hip_depth_fraction' is " +
+                             std::to_string(options.hip_depth_fraction) +
+                             "; it is a fraction of the body's depth from the back: use 0 < "
+                             "hip_depth_fraction < 1 (0.40 by default)");
   if (!(options.shoulder_depth >= 0 && options.shoulder_depth <= 4))
     throw std::runtime_error(path + ": 'shoulder_depth' is " +
                              std::to_string(options.shoulder_depth) +

@@ -51,8 +51,7 @@ BodyShape meanShape(const RepresentativePoses& poses) {
       mean.distal_radius[segment] += pose.shape.distal_radius[segment] / poses.size();
     }
   }
-  for (double BodyShape::*field : {&BodyShape::shoulder_half_width, &BodyShape::shoulder_drop,
-                                   &BodyShape::hip_half_width, &BodyShape::hip_rise}) {
+  for (const auto& [name, field] : kJointPlacements) {
     mean.*field = 0;
     for (const BodyModel& pose : poses) mean.*field += pose.shape.*field / poses.size();
   }

@@ -9,23 +9,14 @@
 namespace body_gait_model {
 namespace {
 
-const std::set<std::string> kModelKeys = {"p",
-                                          "q",
-                                          "r",
-                                          "proximal_radius",
-                                          "distal_radius",
-                                          "shoulder_half_width",
-                                          "shoulder_drop",
-                                          "hip_half_width",
-                                          "hip_rise"};
+std::set<std::string> modelKeys() {
+  std::set<std::string> keys = {"p", "q", "r", "proximal_radius", "distal_radius"};
+  for (const auto& placement : kJointPlacements) keys.insert(placement.name);
+  return keys;
+}
+const std::set<std::string> kModelKeys = modelKeys();
 // Written beside a model by evaluate_body_fit and the gallery export; not part of the model.
 const std::set<std::string> kAnnotationKeys = {"frame", "sequence", "low_quality"};
-
-const std::pair<const char*, double BodyShape::*> kPlacements[] = {
-    {"shoulder_half_width", &BodyShape::shoulder_half_width},
-    {"shoulder_drop", &BodyShape::shoulder_drop},
-    {"hip_half_width", &BodyShape::hip_half_width},
-    {"hip_rise", &BodyShape::hip_rise}};
 
 // Where an error is: `file` (the file, named) and `pose` (e.g. "pose s2" or "pose 3").
 struct Place {
@@ -83,7 +74,7 @@ BodyModel modelFromYaml(const YAML::Node& node, const Place& at, bool strict) {
     const auto radii = numbers(node, "distal_radius", kSegmentCount, at);
     std::copy(radii.begin(), radii.end(), model.shape.distal_radius.begin());
   }
-  for (const auto& [key, field] : kPlacements) {
+  for (const auto& [key, field] : kJointPlacements) {
     if (!node[key]) continue;
     try {
       model.shape.*field = node[key].as<double>();
@@ -91,6 +82,8 @@ BodyModel modelFromYaml(const YAML::Node& node, const Place& at, bool strict) {
       throw std::runtime_error(at.file + ", " + at.pose + ": '" + key + "' must be a number");
     }
   }
+  // Models written before hip_back existed put the hips on the lower torso's axis.
+  if (node["hip_rise"] && !node["hip_back"]) model.shape.hip_back = 0;
   return model;
 }
 
@@ -178,7 +171,7 @@ YAML::Node bodyModelToYaml(const BodyModel& model) {
   node["r"] = flow(model.r);
   node["proximal_radius"] = flow(model.shape.proximal_radius);
   node["distal_radius"] = flow(model.shape.distal_radius);
-  for (const auto& [key, field] : kPlacements) node[key] = model.shape.*field;
+  for (const auto& [key, field] : kJointPlacements) node[key] = model.shape.*field;
   return node;
 }
 

@@ -161,6 +161,9 @@ BodyModel standingModel(double stature) {
   model.shape.shoulder_drop = 0.012 * h;
   model.shape.hip_half_width = 0.05 * h;
   model.shape.hip_rise = 0.06 * h;
+  // 40 % of the pelvis's depth from the back (the fitter's hip_depth_fraction) on a round
+  // lower torso.
+  model.shape.hip_back = 0.2 * model.shape.distal_radius[kLowerTorso];
   model.p[2] = 0.58 * h;
   return model;
 }
@@ -212,7 +215,7 @@ Eigen::Vector3d jointOffset(const BodyModel& model, int segment) {
     case kRightUpperLeg:
     case kLeftUpperLeg: {
       const double side = segment == kLeftUpperLeg ? 1.0 : -1.0;
-      return {side * shape.hip_half_width, -(r[kLowerTorso] - shape.hip_rise), 0};
+      return {side * shape.hip_half_width, -(r[kLowerTorso] - shape.hip_rise), -shape.hip_back};
     }
     case kRightLowerArm:
     case kLeftLowerArm:

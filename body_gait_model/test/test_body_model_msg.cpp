@@ -61,6 +61,7 @@ TEST(BodyModelMsg, RoundTripPosesTheSameModel) {
   BodyFit fit;
   fit.model = posedModel();
   fit.model.shape.hip_rise = 0.07;
+  fit.model.shape.hip_back = 0.034;
   fit.quality.low_quality = true;
   fit.quality.reason = "test";
   const auto msg = toMsg(fit, std_msgs::Header(), 0.25);

@@ -28,6 +28,8 @@ TEST(FitOptionsFile, ShippedConfigHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(read.axes.shoulder_band_high, defaults.axes.shoulder_band_high);
   EXPECT_EQ(read.refinement.sample_points, defaults.refinement.sample_points);
   EXPECT_DOUBLE_EQ(read.hip_height, defaults.hip_height);
+  EXPECT_DOUBLE_EQ(read.hip_depth_fraction, defaults.hip_depth_fraction);
+  EXPECT_EQ(read.refinement.hold_thighs_in_walks, defaults.refinement.hold_thighs_in_walks);
   EXPECT_DOUBLE_EQ(read.shoulder_depth, defaults.shoulder_depth);
   for (int segment = 0; segment < kSegmentCount; ++segment) {
     SCOPED_TRACE(segmentInfo(segment).name);
@@ -82,6 +84,7 @@ TEST(FitOptionsFile, BadFilesAreClearErrors) {
   expectError("joint_limits: {knee: {x: [0, 90], z: [0, 0]}}\n", "unknown key 'joint_limits.knee'");
   expectError("joint_limits: {lower_leg: {x: [90, 0], z: [0, 0]}}\n", "min <= max");
   expectError("hip_height: 53\n", "use 0 < hip_height < 1");
+  expectError("hip_depth_fraction: 40\n", "use 0 < hip_depth_fraction < 1");
   expectError("shoulder_depth: -1\n", "use 0 .. 4");
   EXPECT_THROW(loadFitOptions("/nonexistent/body_fitter.yaml"), std::runtime_error);
 }

@@ -23,6 +23,7 @@ RepresentativePoses somePoses() {
     poses[i].setJointAngles(kRightUpperLeg, -0.1 * i, 0.01 * i);
     poses[i].setJointAngles(kLeftLowerArm, -0.123456789012345, 0);
     poses[i].shape.shoulder_drop = 0.02 + 0.001 * i;
+    poses[i].shape.hip_back = 0.03 + 0.001 * i;
   }
   return poses;
 }
@@ -39,6 +40,7 @@ TEST(GaitPosesFile, WrittenPosesReadBackExactly) {
     EXPECT_EQ(back[i].r, poses[i].r) << "s" << i + 1;
     EXPECT_EQ(back[i].shape.distal_radius, poses[i].shape.distal_radius) << "s" << i + 1;
     EXPECT_EQ(back[i].shape.shoulder_drop, poses[i].shape.shoulder_drop) << "s" << i + 1;
+    EXPECT_EQ(back[i].shape.hip_back, poses[i].shape.hip_back) << "s" << i + 1;
   }
 }
 
@@ -60,6 +62,30 @@ TEST(GaitPosesFile, ShapeDefaultsToTheLegsStature) {
   std::remove(path.c_str());
   EXPECT_NEAR(poses[2].shape.shoulder_half_width, adult.shape.shoulder_half_width, 1e-12);
   EXPECT_NEAR(poses[2].shape.proximal_radius[kHead], adult.shape.proximal_radius[kHead], 1e-12);
+}
+
+// A model written before hip_back existed (hip_rise, no hip_back) had its hips on the lower
+// torso's axis; a model without any placement gets the standard adult's.
+TEST(GaitPosesFile, ModelsWithoutHipBackKeepTheirHipsOnTheAxis) {
+  const std::string path = temporaryPath("old.yaml");
+  const BodyModel adult = standingModel(1.8);
+  ASSERT_GT(adult.shape.hip_back, 0.01);
+  {
+    std::ofstream file(path);
+    file << "poses:\n";
+    for (int i = 0; i < 4; ++i) {
+      file << "  - p: [0, 0, 1.04, 0, 0, 0]\n    q: [";
+      for (int k = 0; k < 22; ++k) file << (k ? ", " : "") << 0;
+      file << "]\n    r: [";
+      for (int k = 0; k < 12; ++k) file << (k ? ", " : "") << adult.r[k];
+      file << "]\n" << (i < 2 ? "    hip_rise: 0.2\n" : "");
+    }
+  }
+  const RepresentativePoses poses = loadRepresentativePoses(path);
+  std::remove(path.c_str());
+  EXPECT_EQ(poses[0].shape.hip_back, 0.0);
+  EXPECT_EQ(poses[0].shape.hip_rise, 0.2);
+  EXPECT_NEAR(poses[3].shape.hip_back, adult.shape.hip_back, 1e-12);
 }
 
 void expectLoadError(const std::string& content, const std::string& words) {

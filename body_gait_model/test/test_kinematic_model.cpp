@@ -54,8 +54,10 @@ TEST(KinematicModel, UprightModelStandsAlongWorldZFacingX) {
   expectNear(posed.joint("left_hand_tip"),
              left_shoulder - Eigen::Vector3d(0, 0, r[kLeftUpperArm] + r[kLeftLowerArm]), 1e-12,
              "left hand tip");
-  const Eigen::Vector3d right_hip =
-      waist + Eigen::Vector3d(0, -shape.hip_half_width, -(r[kLowerTorso] - shape.hip_rise));
+  // World +x is the front (Z_m): the hips sit hip_back behind the lower torso's axis.
+  ASSERT_GT(shape.hip_back, 0.01);
+  const Eigen::Vector3d right_hip = waist + Eigen::Vector3d(-shape.hip_back, -shape.hip_half_width,
+                                                            -(r[kLowerTorso] - shape.hip_rise));
   expectNear(posed.joint("right_hip"), right_hip, 1e-12, "right hip");
   expectNear(posed.joint("right_sole"),
              right_hip - Eigen::Vector3d(0, 0, r[kRightUpperLeg] + r[kRightLowerLeg]), 1e-12,

@@ -619,10 +619,8 @@ std::vector<std::pair<std::string, double>> candidateMeasures(const body_gait_mo
   for (int s = 0; s < kSegmentCount; ++s)
     v.push_back({std::string("rmean ") + segmentInfo(s).name,
                  (m.shape.proximal_radius[s] + m.shape.distal_radius[s]) / 2});
-  v.push_back({"shoulder_half_width", m.shape.shoulder_half_width});
-  v.push_back({"shoulder_drop", m.shape.shoulder_drop});
-  v.push_back({"hip_half_width", m.shape.hip_half_width});
-  v.push_back({"hip_rise", m.shape.hip_rise});
+  for (const auto& [name, field] : body_gait_model::kJointPlacements)
+    v.push_back({name, m.shape.*field});
   return v;
 }
 

@@ -57,6 +57,10 @@ struct FitOptions {
   // Hip joint centres above the lowest point, * body height (Drillis & Contini: 0.53). They lie
   // inside the pelvis, so the surface alone does not show them; the thigh line gives x and z.
   double hip_height = 0.53;
+  // Hip joint centres this fraction of the body's depth at hip height in front of its back: on
+  // the mesh people and the CMU walks on them the hips stood 0.39-0.40 of the midline's depth
+  // from the buttocks (SD 0.01), 35-40 mm behind the lower torso's axis.
+  double hip_depth_fraction = 0.40;
   // Shoulder joint centres below the top of the shoulder above each upper arm's line, in that
   // arm's proximal radii. The humeral head's centre lies about 5 cm below the acromion, under
   // the deltoid's and skin's 1-2 cm: on the mesh people and the CMU walks on them the shoulder's

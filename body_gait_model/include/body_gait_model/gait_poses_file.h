@@ -8,7 +8,8 @@
 //       r: [12 numbers]   # eq 5.3 (m)
 //       # optional (BodyShape; default: standingModel of the stature the legs imply):
 //       proximal_radius: [12], distal_radius: [12], shoulder_half_width, shoulder_drop,
-//       hip_half_width, hip_rise
+//       hip_half_width, hip_rise, hip_back (0 when a file with hip_rise has none: the hips
+//       on the lower torso's axis, as models were before it)
 //       # optional annotations, read past: frame, sequence, low_quality
 //
 // or BodyModel messages one per YAML document, as `rostopic echo -n 4 /body_gait/model > f.yaml`

@@ -76,8 +76,21 @@ struct BodyShape {
   double shoulder_half_width = 0.18;  // shoulder joints at +-X_m from the upper-torso axis ...
   double shoulder_drop = 0.06;        // ... this far below the upper torso's top
   double hip_half_width = 0.09;       // hip joints at +-X_m from the lower-torso axis ...
-  double hip_rise = 0.05;             // ... this far above the lower torso's base
+  double hip_rise = 0.05;             // ... this far above the lower torso's base ...
+  double hip_back = 0;                // ... and this far behind its axis (-Z_m)
 };
+
+// The shape's joint placements by name, for files, messages and per-field statistics.
+struct JointPlacement {
+  const char* name;
+  double BodyShape::*field;
+};
+constexpr JointPlacement kJointPlacements[] = {
+    {"shoulder_half_width", &BodyShape::shoulder_half_width},
+    {"shoulder_drop", &BodyShape::shoulder_drop},
+    {"hip_half_width", &BodyShape::hip_half_width},
+    {"hip_rise", &BodyShape::hip_rise},
+    {"hip_back", &BodyShape::hip_back}};
 
 struct BodyModel {
   PoseVector p = PoseVector::Zero();

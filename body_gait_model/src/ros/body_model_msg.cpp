@@ -112,6 +112,7 @@ body_scan_msgs::BodyModel toMsg(const BodyModel& model, const std_msgs::Header& 
   msg.shoulder_drop = model.shape.shoulder_drop;
   msg.hip_half_width = model.shape.hip_half_width;
   msg.hip_rise = model.shape.hip_rise;
+  msg.hip_back = model.shape.hip_back;
   return msg;
 }
 
@@ -155,6 +156,7 @@ BodyModel fromMsg(const body_scan_msgs::BodyModel& msg) {
   finite({msg.shoulder_drop}, "shoulder_drop");
   finite({msg.hip_half_width}, "hip_half_width");
   finite({msg.hip_rise}, "hip_rise");
+  finite({msg.hip_back}, "hip_back");
   BodyModel model;
   model.p = Eigen::Map<const PoseVector>(msg.p.data());
   model.q = Eigen::Map<const JointAngles>(msg.q.data());
@@ -167,6 +169,7 @@ BodyModel fromMsg(const body_scan_msgs::BodyModel& msg) {
   model.shape.shoulder_drop = msg.shoulder_drop;
   model.shape.hip_half_width = msg.hip_half_width;
   model.shape.hip_rise = msg.hip_rise;
+  model.shape.hip_back = msg.hip_back;
   return model;
 }
 
