@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <string>
 
 namespace body_gait_model {
@@ -44,9 +45,10 @@ TEST(GaitPosesFile, WrittenPosesReadBackExactly) {
   }
 }
 
-TEST(GaitPosesFile, ShapeDefaultsToTheLegsStature) {
+// Four standing poses of `adult` with p, q, r only, then extra(i) under pose i; read back.
+RepresentativePoses loadMinimalPoses(const BodyModel& adult,
+                                     const std::function<std::string(int)>& extra) {
   const std::string path = temporaryPath("minimal.yaml");
-  const BodyModel adult = standingModel(1.8);
   {
     std::ofstream file(path);
     file << "poses:\n";
@@ -55,11 +57,17 @@ TEST(GaitPosesFile, ShapeDefaultsToTheLegsStature) {
       for (int k = 0; k < 22; ++k) file << (k ? ", " : "") << 0;
       file << "]\n    r: [";
       for (int k = 0; k < 12; ++k) file << (k ? ", " : "") << adult.r[k];
-      file << "]\n";
+      file << "]\n" << extra(i);
     }
   }
   const RepresentativePoses poses = loadRepresentativePoses(path);
   std::remove(path.c_str());
+  return poses;
+}
+
+TEST(GaitPosesFile, ShapeDefaultsToTheLegsStature) {
+  const BodyModel adult = standingModel(1.8);
+  const RepresentativePoses poses = loadMinimalPoses(adult, [](int) { return ""; });
   EXPECT_NEAR(poses[2].shape.shoulder_half_width, adult.shape.shoulder_half_width, 1e-12);
   EXPECT_NEAR(poses[2].shape.proximal_radius[kHead], adult.shape.proximal_radius[kHead], 1e-12);
 }
@@ -67,22 +75,10 @@ TEST(GaitPosesFile, ShapeDefaultsToTheLegsStature) {
 // A model written before hip_back existed (hip_rise, no hip_back) had its hips on the lower
 // torso's axis; a model without any placement gets the standard adult's.
 TEST(GaitPosesFile, ModelsWithoutHipBackKeepTheirHipsOnTheAxis) {
-  const std::string path = temporaryPath("old.yaml");
   const BodyModel adult = standingModel(1.8);
   ASSERT_GT(adult.shape.hip_back, 0.01);
-  {
-    std::ofstream file(path);
-    file << "poses:\n";
-    for (int i = 0; i < 4; ++i) {
-      file << "  - p: [0, 0, 1.04, 0, 0, 0]\n    q: [";
-      for (int k = 0; k < 22; ++k) file << (k ? ", " : "") << 0;
-      file << "]\n    r: [";
-      for (int k = 0; k < 12; ++k) file << (k ? ", " : "") << adult.r[k];
-      file << "]\n" << (i < 2 ? "    hip_rise: 0.2\n" : "");
-    }
-  }
-  const RepresentativePoses poses = loadRepresentativePoses(path);
-  std::remove(path.c_str());
+  const RepresentativePoses poses =
+      loadMinimalPoses(adult, [](int i) { return i < 2 ? "    hip_rise: 0.2\n" : ""; });
   EXPECT_EQ(poses[0].shape.hip_back, 0.0);
   EXPECT_EQ(poses[0].shape.hip_rise, 0.2);
   EXPECT_NEAR(poses[3].shape.hip_back, adult.shape.hip_back, 1e-12);
