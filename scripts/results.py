@@ -293,8 +293,9 @@ def body_fit(r, q):
              "bad / bad). \"Offsets removed\": the joint "
              "error once each joint's mean offset (fitted - true, in the body frame), learned on "
              "the other people's fits, is subtracted; what is left is the fits' scatter, without "
-             "the difference between where the fitter and the truth put a joint (the mesh rig's "
-             "hips sit behind the lower torso's axis, on which the thesis's model puts them).", ""]
+             "the difference between where the fitter and the truth put a joint (a straight "
+             "elbow's or knee's standard proportion, which the CMU and MakeHuman skeletons do not "
+             "share).", ""]
     return commands, seconds, lines + table(FIT_HEADER, rows)
 
 
