@@ -24,7 +24,7 @@ struct RefinementOptions {
   // A single scan's thighs keep the direct fit's length (a straight leg's knee fits the surface
   // anywhere along its line); in a walk they are refined unless this is set (fitWalk sets it
   // when a scan's pelvis is unseen: nothing there holds the hips). Held in every walk, the
-  // CMU walks on the mesh people fit better (knees 20-22 -> 17-24 mm, segment lengths 7.7 ->
+  // CMU walks on the mesh people fit better (knees 25-29 -> 17-24 mm, segment lengths 7.7 ->
   // 6.0 %), but fewer walks of the mesh people were identified (seeds 1 and 3: 92 and 90 % ->
   // 86 and 88 %).
   bool hold_thighs_in_walks = false;
